@@ -1,0 +1,1 @@
+"""The ``resal`` command line."""

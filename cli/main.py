@@ -1,0 +1,156 @@
+"""``resal``: list, reproduce and simulate. Parses arguments, calls one library function, renders.
+
+Heavy imports (numpy, scipy, matplotlib) happen inside the commands, so ``resal --help`` stays fast.
+Bad input of any kind ends with one message on stderr and exit status 2.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated, Any, NoReturn
+
+import typer
+from rich.console import Console
+from rich.table import Table
+from rich.text import Text
+
+from reproductions.errors import InputError
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  help="Reproduce H. Résal (1883), 'Commentaire à la théorie mathématique du jeu de billard'.")
+out_console = Console()
+err_console = Console(stderr=True)
+VERDICT_STYLE = {"reproduced": "green", "differs": "bold red", "not-checkable": "yellow"}
+
+
+def _fail(err: InputError) -> NoReturn:
+    err_console.print(Text("error: ", style="bold red") + Text(str(err)))
+    raise typer.Exit(2)
+
+
+@app.command("list")
+def list_cmd() -> None:
+    """List every experiment: id, section, title, kind."""
+    from reproductions import api
+
+    try:
+        exps = api.list_experiments()
+    except InputError as err:
+        _fail(err)
+    t = Table(title=f"experiments in {api.config_dir()}")
+    for c in ("id", "section", "title", "kind"):
+        t.add_column(c)
+    for e in exps:
+        t.add_row(e.id, e.source.section, e.title, e.kind)
+    out_console.print(t)
+
+
+def _render(s: dict[str, Any]) -> None:
+    from reproductions.report import HEADERS
+
+    t = Table(title=f"{s['experiment']}: {s['title']}", show_lines=True, title_justify="left")
+    for h in HEADERS:
+        t.add_column(h, overflow="fold", max_width=60 if h == "note" else None)
+    for r in s["rows"]:
+        rel = "—" if r["rel_diff"] is None else f"{r['rel_diff']:+.2%}"
+        comp = "—" if r["computed"] is None else f"{r['computed']:.6g}"
+        t.add_row(r["quantity"], r["source"], r["printed_text"], comp, rel,
+                  Text(r["verdict"], style=VERDICT_STYLE[r["verdict"]]), r["note"])
+    out_console.print(t)
+    f = Table(title="fits", title_justify="left")
+    for h in ("parameter", "value", "std. error", "95 % interval", "identifiable", "note"):
+        f.add_column(h, overflow="fold", max_width=60 if h == "note" else None)
+    for x in s["fits"]:
+        ci = x["ci95"]
+        f.add_row(x["parameter"], "—" if x["value"] is None else f"{x['value']:.6g}",
+                  "—" if x["stderr"] is None else f"{x['stderr']:.3g}",
+                  "—" if ci[0] is None else f"[{ci[0]:.4g}, {ci[1]:.4g}]", "yes" if x["identifiable"] else "no",
+                  x["note"])
+    out_console.print(f)
+
+
+@app.command()
+def reproduce(
+    experiments: Annotated[list[str] | None, typer.Argument(help="experiment ids or YAML paths")] = None,
+    all_: Annotated[bool, typer.Option("--all", help="every experiment in configs/")] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="print summary.json on stdout instead of tables")] = False,
+    out: Annotated[Path, typer.Option("--out", help="results folder")] = Path("results"),
+) -> None:
+    """Run experiments, compare every printed value, write tables and figures into OUT/<experiment>/."""
+    from reproductions import api, report
+
+    try:
+        names = list(experiments or [])
+        if all_:
+            names += [i for i in api.experiment_ids() if i not in names]
+        if not names:
+            raise InputError("arguments", "name an experiment id, a YAML path, or use --all")
+        exps = [api.load(n) for n in names]  # validate everything before running or writing anything
+        report.ensure_writable(out)
+        summaries = []
+        with err_console.status("") as status:
+            for i, e in enumerate(exps, 1):
+                status.update(f"[{i}/{len(exps)}] {e.id}: running")
+                rep = api.run(e)
+                status.update(f"[{i}/{len(exps)}] {e.id}: writing tables and figures")
+                folder = report.write_reproduction(rep, out)
+                summaries.append(json.loads((folder / "summary.json").read_text(encoding="utf-8")))
+            report.write_index(out)
+    except InputError as err:
+        _fail(err)
+    except OSError as err:
+        _fail(InputError(f"--out {out}", f"cannot write results ({err.strerror or err})"))
+    if as_json:
+        obj = summaries[0] if len(summaries) == 1 else summaries
+        typer.echo(json.dumps(obj, indent=2, ensure_ascii=False))
+        return
+    for s in summaries:
+        _render(s)
+    err_console.print(f"wrote {len(summaries)} experiment(s) and {out / 'index.md'}")
+
+
+@app.command()
+def simulate(
+    model: Annotated[str | None, typer.Argument(help="model name; see --list")] = None,
+    set_: Annotated[list[str] | None, typer.Option("--set", help="name=value, SI units, paper's notation")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="print one JSON object")] = False,
+    list_: Annotated[bool, typer.Option("--list", help="list the models and their parameters")] = False,
+) -> None:
+    """Run one scene of a mechanics model and print its outputs."""
+    from reproductions.models import MODELS
+    from reproductions.models import simulate as run_scene
+
+    if list_:
+        t = Table(title="models")
+        for c in ("model", "what", "parameters (default)"):
+            t.add_column(c, overflow="fold")
+        for m in MODELS.values():
+            t.add_row(m.name, m.doc, ", ".join(f"{p.name}={p.default:g}" for p in m.params))
+        out_console.print(t)
+        return
+    try:
+        if model is None:
+            raise InputError("arguments", "name a model (see resal simulate --list)")
+        result = run_scene(model, list(set_ or []))
+    except InputError as err:
+        _fail(err)
+    if as_json:
+        typer.echo(json.dumps(result, indent=2))
+        return
+    t = Table(title=f"{result['model']} ({result['method']})")
+    t.add_column("name")
+    t.add_column("value")
+    for k, v in result["inputs"].items():
+        t.add_row(f"in  {k}", f"{v:.10g}")
+    for k, v in result["outputs"].items():
+        t.add_row(f"out {k}", f"{v:.10g}")
+    out_console.print(t)
+
+
+def main() -> None:
+    app()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,303 @@
+"""YAML experiment files → frozen dataclasses, with errors that name the file, the line and what was expected.
+
+The common part of every config (id, kind, title, source, printed values, seed) is read here; the
+``params`` section is read by the experiment kind's own ``parse`` function through the same ``Node``
+reader, so every kind gets the same checks: unknown keys are errors, numbers are numbers (PyYAML reads
+``1e-3`` as a string; it is accepted here, as is a fraction such as ``7/12``), ranges are enforced.
+
+A printed value is only ever compared against: ``printed`` entries are never handed to the physics.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from .errors import InputError
+
+__all__ = ["Experiment", "Node", "Printed", "Source", "load_experiment", "parse_number"]
+
+_FRACTION = re.compile(r"^\s*([+-]?\d+)\s*/\s*(\d+)\s*$")
+
+
+def parse_number(text: Any) -> tuple[float, bool] | None:
+    """A float from a YAML scalar or string; also ``"7/12"`` fractions. Returns (value, exact) or None."""
+    if isinstance(text, bool) or text is None:
+        return None
+    if isinstance(text, int):
+        return float(text), True
+    if isinstance(text, float):
+        return text, False
+    if isinstance(text, str):
+        m = _FRACTION.match(text)
+        if m:
+            den = int(m.group(2))
+            return (float(Fraction(int(m.group(1)), den)), True) if den else None
+        try:
+            return float(text.strip().replace(",", ".")), False
+        except ValueError:
+            return None
+    return None
+
+
+class Node:
+    """A position in a parsed YAML document: reads typed values and remembers which keys were used."""
+
+    def __init__(self, file: str, node: yaml.Node, path: str = "") -> None:
+        self.file = file
+        self.node = node
+        self.path = path
+        self._used: set[str] = set()
+
+    # -- places -------------------------------------------------------------------------------------------
+    def where(self, node: yaml.Node | None = None) -> str:
+        n = node if node is not None else self.node
+        return f"{self.file}:{n.start_mark.line + 1}"
+
+    def _name(self, key: str) -> str:
+        return f"{self.path}.{key}" if self.path else key
+
+    def fail(self, message: str, node: yaml.Node | None = None) -> InputError:
+        return InputError(self.where(node), message)
+
+    # -- structure ----------------------------------------------------------------------------------------
+    def _mapping(self) -> dict[str, yaml.Node]:
+        if not isinstance(self.node, yaml.MappingNode):
+            raise self.fail(f"'{self.path or 'document'}' must be a mapping of keys to values")
+        out: dict[str, yaml.Node] = {}
+        for k, v in self.node.value:
+            if not isinstance(k, yaml.ScalarNode):
+                raise self.fail("keys must be plain names", k)
+            if k.value in out:
+                raise self.fail(f"key '{self._name(k.value)}' appears twice", k)
+            out[k.value] = v
+        return out
+
+    def has(self, key: str) -> bool:
+        return key in self._mapping()
+
+    def _get(self, key: str, expected: str) -> yaml.Node:
+        m = self._mapping()
+        if key not in m:
+            raise self.fail(f"missing required key '{self._name(key)}' (expected {expected})")
+        self._used.add(key)
+        return m[key]
+
+    def child(self, key: str, expected: str = "a mapping") -> Node:
+        n = self._get(key, expected)
+        if not isinstance(n, yaml.MappingNode):
+            raise self.fail(f"'{self._name(key)}' must be {expected}", n)
+        return Node(self.file, n, self._name(key))
+
+    def children(self, key: str, expected: str = "a list of mappings") -> Iterator[Node]:
+        n = self._get(key, expected)
+        if not isinstance(n, yaml.SequenceNode):
+            raise self.fail(f"'{self._name(key)}' must be {expected}", n)
+        for i, item in enumerate(n.value):
+            if not isinstance(item, yaml.MappingNode):
+                raise self.fail(f"'{self._name(key)}[{i}]' must be a mapping", item)
+            yield Node(self.file, item, f"{self._name(key)}[{i}]")
+
+    def done(self) -> None:
+        """Every key of this mapping must have been read: an unknown key is a typo or a misplaced value."""
+        for key, _ in self._mapping().items():
+            if key not in self._used:
+                knode = next(k for k, _ in self.node.value if k.value == key)
+                raise self.fail(f"unknown key '{self._name(key)}'", knode)
+
+    # -- scalars ------------------------------------------------------------------------------------------
+    def _scalar(self, key: str, expected: str) -> yaml.ScalarNode:
+        n = self._get(key, expected)
+        if not isinstance(n, yaml.ScalarNode):
+            raise self.fail(f"'{self._name(key)}' must be {expected}", n)
+        return n
+
+    def string(self, key: str, default: str | None = None, choices: tuple[str, ...] | None = None) -> str:
+        if default is not None and not self.has(key):
+            return default
+        expected = "a text" if choices is None else "one of " + ", ".join(choices)
+        n = self._scalar(key, expected)
+        value = n.value
+        if choices is not None and value not in choices:
+            raise self.fail(f"'{self._name(key)}' must be {expected}, got '{value}'", n)
+        if not value.strip():
+            raise self.fail(f"'{self._name(key)}' must be a non-empty text", n)
+        return value
+
+    def number_node(self, key: str, what: str = "a number") -> tuple[float, bool, str, yaml.ScalarNode]:
+        """(value, exact, raw text, node) of a numeric scalar."""
+        n = self._scalar(key, what)
+        value = _construct(n)
+        parsed = parse_number(value)
+        if parsed is None or not math.isfinite(parsed[0]):
+            raise self.fail(f"'{self._name(key)}' must be {what}, got '{n.value}'", n)
+        return parsed[0], parsed[1], n.value, n
+
+    def number(
+        self, key: str, what: str = "a number", *, default: float | None = None, lo: float | None = None,
+        hi: float | None = None, lo_open: bool = False, hi_open: bool = False,
+    ) -> float:
+        if default is not None and not self.has(key):
+            return default
+        value, _, raw, n = self.number_node(key, what)
+        bad = (lo is not None and (value < lo or (lo_open and value == lo))) or (
+            hi is not None and (value > hi or (hi_open and value == hi)))
+        if bad:
+            lo_s = "" if lo is None else ("(" if lo_open else "[") + f"{lo:g}"
+            hi_s = "" if hi is None else f"{hi:g}" + (")" if hi_open else "]")
+            rng = f"in {lo_s}, {hi_s}" if lo is not None and hi is not None else (
+                f"{'>' if lo_open else '≥'} {lo:g}" if lo is not None else f"{'<' if hi_open else '≤'} {hi:g}")
+            raise self.fail(f"'{self._name(key)}' must be {what} {rng}, got {raw}", n)
+        return value
+
+    def integer(self, key: str, what: str = "an integer", *, default: int | None = None, lo: int = 0) -> int:
+        if default is not None and not self.has(key):
+            return default
+        n = self._scalar(key, what)
+        value = _construct(n)
+        if isinstance(value, bool) or not isinstance(value, int) or value < lo:
+            raise self.fail(f"'{self._name(key)}' must be {what} ≥ {lo}, got '{n.value}'", n)
+        return value
+
+    def string_list(self, key: str, default: tuple[str, ...] = ()) -> tuple[str, ...]:
+        if not self.has(key):
+            return default
+        n = self._get(key, "a list of texts")
+        if not isinstance(n, yaml.SequenceNode) or not all(isinstance(i, yaml.ScalarNode) for i in n.value):
+            raise self.fail(f"'{self._name(key)}' must be a list of texts", n)
+        return tuple(i.value for i in n.value)
+
+
+def _construct(n: yaml.ScalarNode) -> Any:
+    return yaml.SafeLoader("").construct_object(n, deep=True)
+
+
+@dataclass(frozen=True)
+class Source:
+    section: str
+    page: int | None
+    equations: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Printed:
+    """A value printed in the paper, to be compared with what resal computes (never used as an input)."""
+
+    id: str
+    computed: str  # which computed quantity it is compared with
+    quantity: str
+    source: str
+    value: float | None
+    text: str
+    tolerance: float | None
+    tolerance_rule: str
+    where: str
+
+
+@dataclass(frozen=True)
+class Experiment:
+    id: str
+    kind: str
+    title: str
+    source: Source
+    printed: tuple[Printed, ...]
+    params: Any
+    seed: int
+    modern: tuple[str, ...]
+    path: str
+    sha256: str
+    notes: tuple[str, ...] = field(default=())
+
+
+def _tolerance(value: float, exact: bool, raw: str) -> tuple[float, str]:
+    """Relative tolerance allowed by the printed digits: half a unit of the last printed digit."""
+    if exact:
+        return 1e-9, "exact fraction: 1e-9"
+    text = raw.strip().replace(",", ".").lstrip("+-")
+    mantissa = re.split(r"[eE]", text)[0]
+    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    exponent = int(re.split(r"[eE]", text)[1]) if re.search(r"[eE]", text) else 0
+    half_unit = 0.5 * 10.0 ** (exponent - decimals)
+    return half_unit / abs(value) if value else half_unit, f"half a unit of the last printed digit ({half_unit:g})"
+
+
+def _printed(node: Node, quantities: tuple[str, ...]) -> Printed:
+    pid = node.string("id")
+    computed = node.string("computed", default=pid)
+    if computed not in quantities:
+        raise node.fail(f"'{node.path}.computed' names no quantity this kind computes: '{computed}' "
+                        f"(expected one of {', '.join(quantities)})")
+    quantity = node.string("quantity")
+    source = node.string("source")
+    text = node.string("text")
+    if node.has("value") and _construct(node._mapping()["value"]) is not None:
+        value, exact, raw, _ = node.number_node("value", "a number or a fraction such as 4/15")
+        tol, rule = _tolerance(value, exact, raw)
+    else:
+        node._used.add("value")
+        value, tol, rule = None, None, "no printed number"
+    if node.has("tolerance"):
+        tol = node.number("tolerance", "a relative tolerance", lo=0.0, lo_open=True)
+        rule = node.string("tolerance_rule")
+    node.done()
+    return Printed(pid, computed, quantity, source, value, text, tol, rule, node.where())
+
+
+def load_experiment(path: str | Path) -> Experiment:
+    """Read and validate one experiment file; raises ``InputError`` naming file:line on any problem."""
+    from .experiments import KINDS  # the kinds carry their own schema; imported late to keep layers apart
+
+    p = Path(path)
+    file = str(path)
+    try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise InputError(file, f"cannot read the experiment file ({exc.strerror})") from None
+    try:
+        text = raw.decode("utf-8")
+        doc = yaml.compose(text, Loader=yaml.SafeLoader)
+    except UnicodeDecodeError:
+        raise InputError(file, "not a UTF-8 text file") from None
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        line = mark.line + 1 if mark else 1
+        raise InputError(f"{file}:{line}", f"malformed YAML: {exc.problem or exc.context}") from None
+    except yaml.YAMLError as exc:
+        raise InputError(file, f"malformed YAML: {exc}") from None
+    if doc is None:
+        raise InputError(f"{file}:1", "empty file (expected an experiment: id, kind, title, source, params, printed)")
+    root = Node(file, doc)
+    eid = root.string("id")
+    if not re.fullmatch(r"[a-z0-9][a-z0-9-]*", eid):
+        raise root.fail(f"'id' must be lower-case letters, digits and hyphens, got '{eid}'")
+    kind = root.string("kind", choices=tuple(sorted(KINDS)))
+    module = KINDS[kind]
+    title = root.string("title")
+    src = root.child("source", "a mapping with section, page, equations")
+    source = Source(src.string("section"), src.integer("page", "a page number", default=0) or None,
+                    src.string_list("equations"))
+    src.done()
+    seed = root.integer("seed", "a non-negative integer seed", default=0)
+    modern = root.string_list("modern")
+    unknown = [m for m in modern if m not in module.MODERN]
+    if unknown:
+        raise root.fail(f"'modern' lists {', '.join(unknown)}, which kind '{kind}' cannot compare "
+                        f"(expected some of {', '.join(module.MODERN)})")
+    params = module.parse(root.child("params"), p.parent)
+    printed = tuple(_printed(n, module.QUANTITIES) for n in root.children("printed"))
+    ids = [x.id for x in printed]
+    dup = sorted({i for i in ids if ids.count(i) > 1})
+    if dup:
+        raise root.fail(f"printed ids must be unique; repeated: {', '.join(dup)}")
+    notes = root.string_list("notes")
+    root.done()
+    return Experiment(eid, kind, title, source, printed, params, seed, modern, file,
+                      hashlib.sha256(raw).hexdigest(), notes)

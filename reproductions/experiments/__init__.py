@@ -1,0 +1,10 @@
+"""Experiment kinds: each module reads its ``params`` (``parse``), lists the quantities it computes
+(``QUANTITIES``) and the modern values it can stand beside (``MODERN``), and runs (``run``)."""
+
+from __future__ import annotations
+
+from types import ModuleType
+
+from . import pendulum, rebound
+
+KINDS: dict[str, ModuleType] = {"pendulum": pendulum, "rebound": rebound}

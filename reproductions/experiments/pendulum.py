@@ -1,0 +1,168 @@
+"""Kind ``pendulum``: two bodies hung as pendulums, one striking the other at rest (§I n°5, eqs (8)).
+
+Coriolis's cue-and-ball experiment. The measured ratios V1/V0 and V1′/V0 are the data; ε, ε′ are fitted
+to them. The paper's derived values (the combination 24/5, ε′ = 4/15 = 0,27) are only compared.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..config import Experiment, Node
+from ..fitting import FitResult, fit_direct_impact
+from ..mechanics import impact
+from .base import (
+    Computed,
+    FigureSpec,
+    Reproduction,
+    fit_rows,
+    layer,
+    modern_rows,
+    read_series,
+    rows_for,
+)
+
+QUANTITIES = ("n_equations", "combination", "momentum_balance", "epsp_given_eps", "eps_given_epsp",
+              "swapped_struck_ratio")
+MODERN = ("e_tip", "m_ball/m_cue")
+
+
+@dataclass(frozen=True)
+class Body:
+    name: str
+    mass: float
+
+
+@dataclass(frozen=True)
+class Params:
+    striker: Body
+    struck: Body
+    ratio: float  # measured V1/V0 of the striking body
+    ratio_p: float  # measured V1′/V0 of the struck body
+    V0_max: float
+    sigma: float | None  # assumed standard deviation of each measured ratio
+    sigma_note: str
+    eps_paper: float  # the paper's assumption on ε (striking body) in n°5
+    epsp_premise: float  # the premise as worded (the ball keeps its shape) applied to the ball M′
+    series: Path | None  # a user's CSV of trials: V0, V1, V1p [, M, Mp]
+
+
+def _body(n: Node) -> Body:
+    b = Body(n.string("name"), n.number("mass", "a mass in kg", lo=0.0, lo_open=True))
+    n.done()
+    return b
+
+
+def parse(node: Node, base: Path) -> Params:
+    striker = _body(node.child("striker", "a mapping with name and mass"))
+    struck = _body(node.child("struck", "a mapping with name and mass"))
+    m = node.child("measured", "a mapping with V1_over_V0, V1p_over_V0, V0_max")
+    ratio = m.number("V1_over_V0", "a velocity ratio", lo=-1.0, hi=1.0)
+    ratio_p = m.number("V1p_over_V0", "a velocity ratio", lo=0.0, lo_open=True)
+    v0max = m.number("V0_max", "a speed in m/s", lo=0.0, lo_open=True)
+    sigma = m.number("sigma", "a standard deviation of the ratios", lo=0.0, lo_open=True) if m.has("sigma") else None
+    sigma_note = m.string("sigma_note") if sigma is not None else ""
+    series = None
+    if m.has("series_csv"):
+        series = base / m.string("series_csv")
+    m.done()
+    a = node.child("assumptions", "a mapping with eps_paper and epsp_premise")
+    eps_paper = a.number("eps_paper", "a coefficient", lo=0.0, hi=1.0)
+    epsp_premise = a.number("epsp_premise", "a coefficient", lo=0.0, hi=1.0)
+    a.done()
+    node.done()
+    return Params(striker, struck, ratio, ratio_p, v0max, sigma, sigma_note, eps_paper, epsp_premise, series)
+
+
+def _trials(p: Params) -> tuple[np.ndarray, ...]:
+    """(M, M′, V0, V1, V1′) of every trial: the user's series, or the paper's ratios as one trial at V0 = 1."""
+    if p.series is None:
+        one = np.ones(1)
+        return (p.striker.mass * one, p.struck.mass * one, one, p.ratio * one, p.ratio_p * one)
+    s = read_series(p.series, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=1, positive=("V0", "M", "Mp"))
+    n = s["V0"].size
+    M = s.get("M", np.full(n, p.striker.mass))
+    Mp = s.get("Mp", np.full(n, p.struck.mass))
+    return M, Mp, s["V0"], s["V1"], s["V1p"]
+
+
+def run(exp: Experiment) -> Reproduction:
+    p: Params = exp.params
+    M, Mp = p.striker.mass, p.struck.mass
+    mu = M / Mp
+    sb, st = p.striker.name, p.struck.name
+    # inverse maps of eqs (8): each measured ratio gives D = M′(1+ε) + M(1+ε′); the data give nothing else
+    D_p = float(impact.denominator_from_struck_ratio(M, p.ratio_p))
+    D = float(impact.denominator_from_striker_ratio(Mp, p.ratio))
+    comb = D_p / Mp  # (1 + ε) + (M/M′)(1 + ε′), the paper's "1 + ε + 3(1 + ε′)"
+    epsp_given_eps = (D_p - Mp * (1 + p.eps_paper)) / M - 1.0
+    eps_given_epsp = (D_p - M * (1 + p.epsp_premise)) / Mp - 1.0
+    swapped = impact.direct_impact(M, Mp, 1.0, 0.0, epsp_given_eps, p.eps_paper)
+    momentum = (M * p.ratio + Mp * p.ratio_p - M) / M
+
+    trials = _trials(p)
+    fit: FitResult = fit_direct_impact(*trials, sigma=p.sigma)
+
+    def why_swapped(printed: float) -> str:
+        return (f"§VII (footnote of n°14) gives the ball ε = 0 and the cue ε′ = 0,27, the reverse of n°5's reading "
+                f"({sb} {p.eps_paper:g}, {st} {epsp_given_eps:.4f}); with that assignment eq. (8) predicts "
+                f"V1′ = {float(swapped.V1p):.4f} V0 where Coriolis measured {printed:g} V0, so the swapped pair "
+                f"is not a solution of the data")
+
+    computed = {
+        "n_equations": Computed(float(fit.identifiability.rank),
+                                f"rank of the Jacobian of eqs (8) in (ε, ε′): singular values "
+                                f"{', '.join(f'{s:.3g}' for s in fit.identifiability.singular_values)}"),
+        "combination": Computed(comb, f"2(M/M′)/(V1′/V0) from the second of eqs (8); the first gives "
+                                      f"{D / Mp:.12g}, the same because the data conserve momentum"),
+        "momentum_balance": Computed(momentum, "(M V1 + M′ V1′ − M V0)/(M V0) of the measured ratios"),
+        "epsp_given_eps": Computed(epsp_given_eps, f"eq. (8) with ε = {p.eps_paper:g} for the {sb}"),
+        "eps_given_epsp": Computed(
+            eps_given_epsp,
+            f"n°5 justifies ε = 0 by a ball keeping its shape, but in n°5's notation ε belongs to the striking "
+            f"body M, the {sb}; applied to the {st} (ε′ = {p.epsp_premise:g}) the premise gives ε = "
+            f"{eps_given_epsp:.4f} for the {sb}. The data allow every pair on ε + {mu:g}ε′ = {comb - 1 - mu:.4f}"),
+        "swapped_struck_ratio": Computed(float(swapped.V1p), "eq. (8) with the coefficients swapped as in §VII",
+                                         why_swapped),
+    }
+    labels = {"eps": f"ε ({sb})", "epsp": f"ε′ ({st})"}
+    note = p.sigma_note if p.sigma is not None else ""
+    fits = fit_rows(fit, labels, "least squares on eqs (8), bounds [0, 1]", note)
+    e_data = p.ratio_p - p.ratio
+    modern = modern_rows(exp.modern, {
+        "e_tip": (e_data, "Newton's e = (V1′ − V1)/V0 of Coriolis's cue–ball data"),
+        "m_ball/m_cue": (Mp / M, "mass ratio of Coriolis's experiment"),
+    })
+    return Reproduction(exp, rows_for(exp, computed), tuple(fits), (_figure(p, fit, comb, mu, epsp_given_eps,
+                                                                            eps_given_epsp),), modern,
+                        data_note="" if p.series is None else f"series: {p.series.name}")
+
+
+def _figure(p: Params, fit: FitResult, comb: float, mu: float, paper_epsp: float, premise_eps: float) -> FigureSpec:
+    """The solution set of Coriolis's data in the (ε, ε′) plane (§I n°5), with the readings of the paper."""
+    c = comb - 1.0 - mu  # ε + μ ε′ = c
+    eps = np.linspace(0.0, 1.0, 201)
+    line = (c - eps) / mu
+    inside = (line >= 0) & (line <= 1)
+    layers = [layer("line", eps[inside], line[inside], label=f"data: ε + {mu:g}ε′ = {c:.4f}", color="C0")]
+    comb_rows = fit.combinations
+    if comb_rows and comb_rows[0].stderr is not None:
+        lo, hi = comb_rows[0].ci95
+        layers.append(layer("band", eps, np.clip((lo - eps) / mu, 0, 1), np.clip((hi - eps) / mu, 0, 1),
+                            label="95 % band (assumed σ)", color="C0"))
+    layers += [
+        layer("points", [p.eps_paper], [paper_epsp], label=f"n°5 reading: ε = {p.eps_paper:g} ⇒ ε′ = {paper_epsp:.4f}",
+              color="C3", marker="o"),
+        layer("points", [premise_eps], [p.epsp_premise],
+              label=f"premise on the ball: ε′ = {p.epsp_premise:g} ⇒ ε = {premise_eps:.4f}", color="C2", marker="s"),
+        layer("points", [paper_epsp], [p.eps_paper], label="§VII's assignment (swapped): off the line",
+              color="C1", marker="x"),
+    ]
+    return FigureSpec("pendulum", "Coriolis's pendulum: the pairs (ε, ε′) the data allow",
+                      f"ε of the striking body ({p.striker.name})", f"ε′ of the struck body ({p.struck.name})",
+                      tuple(layers), (0.0, 1.0), (0.0, 0.5),
+                      f"One equation for two unknowns: every point of the segment reproduces V1 = {p.ratio:.4g} V0 "
+                      f"and V1′ = {p.ratio_p:.4g} V0.")

@@ -1,0 +1,202 @@
+"""Kind ``rebound``: a ball striking an immovable mass (§I n°5, eq. (9)): cushion, marble slab.
+
+The datum is either the velocity ratio −V1/V0 (Coriolis's cushion) or the rebound height ratio h1/h0
+(the ball dropped on marble); ε follows from the inverse of eq. (9). An optional series of trials, a
+user's CSV or a synthetic one generated from the model with a seeded noise, is fitted by least squares.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..config import Experiment, Node
+from ..fitting import FitResult, fit_rebound
+from ..mechanics import impact
+from .base import Computed, FigureSpec, FitRow, Reproduction, fit_rows, layer, modern_rows, read_series, rows_for
+
+QUANTITIES = ("eps", "velocity_ratio", "eps_no_rebound", "eps_series")
+MODERN = ("e_c", "e_c(v)", "e_t")
+G = 9.80665  # only to turn drop heights into speeds; every ratio here is independent of g
+
+
+@dataclass(frozen=True)
+class Synthetic:
+    n: int
+    low: float
+    high: float
+    noise: float  # relative standard deviation of each measured rebound
+
+
+@dataclass(frozen=True)
+class Params:
+    quantity: str  # "velocity_ratio" or "height_ratio"
+    value: float
+    half_unit: float | None  # half a unit of the measurement's last printed digit, when printed in decimals
+    speed_max: float | None
+    synthetic: Synthetic | None
+    series: Path | None
+
+
+def parse(node: Node, base: Path) -> Params:
+    m = node.child("measured", "a mapping with quantity and value")
+    quantity = m.string("quantity", choices=("velocity_ratio", "height_ratio"))
+    value, exact, raw, vnode = m.number_node("value", "a ratio in [0, 1]")
+    if not 0.0 <= value <= 1.0:
+        raise m.fail(f"'{m.path}.value' must be a ratio in [0, 1], got {raw}", vnode)
+    half = None
+    if not exact and "." in raw:
+        half = 0.5 * 10.0 ** -len(raw.strip().split(".")[1])
+    speed_max = m.number("speed_max", "a speed in m/s", lo=0.0, lo_open=True) if m.has("speed_max") else None
+    m.done()
+    synthetic = series = None
+    if node.has("series"):
+        s = node.child("series", "a mapping with either synthetic or csv")
+        if s.has("csv") == s.has("synthetic"):
+            raise s.fail(f"'{s.path}' must have exactly one of 'csv' (a file) or 'synthetic' (a generator)")
+        if s.has("csv"):
+            series = base / s.string("csv")
+        else:
+            g = s.child("synthetic", "a mapping with n, low, high, noise")
+            n = g.integer("n", "a number of trials", lo=2)
+            low = g.number("low", "the smallest speed (m/s) or drop height (m)", lo=0.0, lo_open=True)
+            high = g.number("high", "the largest speed (m/s) or drop height (m)", lo=low)
+            noise = g.number("noise", "a relative standard deviation", lo=0.0, hi=1.0)
+            g.done()
+            synthetic = Synthetic(n, low, high, noise)
+        s.done()
+    node.done()
+    return Params(quantity, value, half, speed_max, synthetic, series)
+
+
+def _speed_ratio(p: Params, value: float) -> float:
+    return math.sqrt(value) if p.quantity == "height_ratio" else value
+
+
+def _series(p: Params, seed: int) -> tuple[np.ndarray, np.ndarray, str] | None:
+    """(V0, V1, label) of the trials: speeds directly, or from drop heights by free fall."""
+    cols = ("V0", "V1") if p.quantity == "velocity_ratio" else ("h0", "h1")
+    if p.series is not None:
+        s = read_series(p.series, cols, min_rows=2, positive=(cols[0],))
+        a, b, label = s[cols[0]], s[cols[1]], f"measured series ({p.series.name})"
+    elif p.synthetic is not None:
+        syn = p.synthetic
+        rng = np.random.default_rng(seed)
+        a = np.sort(rng.uniform(syn.low, syn.high, syn.n))
+        b = (-p.value if p.quantity == "velocity_ratio" else p.value) * a * (1 + syn.noise * rng.standard_normal(syn.n))
+        label = f"SYNTHETIC series: model with r = {p.value:.4g}, {syn.noise:.0%} noise, seed {seed}"
+    else:
+        return None
+    if p.quantity == "height_ratio":
+        return np.sqrt(2 * G * a), -np.sqrt(2 * G * np.abs(b)), label
+    return a, b, label
+
+
+def _slips(r: float, printed: float, tol: float) -> list[str]:
+    """Arithmetic slips that would turn the ratio r into the printed ε (to the printed digits)."""
+    candidates = {
+        "(1 − r)/(2 − r), a slip in the denominator": (1 - r) / (2 - r),
+        "(1 − r²)/(1 + r²), the height ratio taken for the velocity ratio": (1 - r * r) / (1 + r * r),
+        "(2 − √3)/√3, i.e. r taken as √3 − 1": 2 / math.sqrt(3) - 1,
+    }
+    return [f"{k} = {v:.4f}" for k, v in candidates.items() if abs(v - printed) <= tol * abs(printed)]
+
+
+def run(exp: Experiment) -> Reproduction:
+    p: Params = exp.params
+    r = _speed_ratio(p, p.value)
+    eps = float(impact.eps_from_velocity_ratio(r))
+    kind = "rebound height ratio" if p.quantity == "height_ratio" else "velocity ratio −V1/V0"
+
+    def why_eps(printed: float) -> str:
+        needed = float(impact.eps_from_velocity_ratio(printed))  # the map is its own inverse
+        tol = next(x.tolerance for x in exp.printed if x.computed == "eps") or 0.0
+        slips = _slips(r, printed, tol)
+        text = (f"eq. (9) with r = {r:.4f} gives ε = {eps:.4f}; the printed {printed:g} needs r = {needed:.4f} "
+                f"(height ratio {needed**2:.3f})")
+        return text + ("; it matches " + " or ".join(slips) if slips else "; no simple slip found")
+
+    def why_ratio(printed: float) -> str:
+        for d in range(1, 5):
+            if math.isclose(math.floor(r * 10**d) / 10**d, printed, rel_tol=1e-12):
+                return f"√ of the ratio is {r:.4f}: truncated, not rounded, to {d} decimals (rounds to {round(r, d)})"
+        return f"√ of the ratio is {r:.4f}"
+
+    data = _series(p, exp.seed)
+    fit: FitResult | None = fit_rebound(data[0], data[1]) if data else None
+    computed = {
+        "eps": Computed(eps, f"inverse of eq. (9) with the {kind} {p.value:.6g}", why_eps),
+        "velocity_ratio": Computed(r, "√ of the height ratio (free fall)" if p.quantity == "height_ratio"
+                                   else "the measured ratio", why_ratio),
+        "eps_no_rebound": Computed(float(impact.eps_from_velocity_ratio(0.0)),
+                                   "eq. (9) with no rebound: ε = 1, Carnot's inelastic impact (eq. 4); the paper "
+                                   "explains it by vibration, which ε absorbs (end of n°3)"),
+        "eps_series": Computed(None if fit is None else fit.point[0], "least-squares fit of the series"),
+    }
+    fits: list[FitRow] = []
+    if p.half_unit is not None:
+        lo, hi = (float(impact.eps_from_velocity_ratio(_speed_ratio(p, p.value + s * p.half_unit))) for s in (1, -1))
+        fits.append(FitRow("ε", eps, None, (None, None), "inverse of eq. (9)", True,
+                           f"the ratio is printed to ±{p.half_unit:g}: ε ∈ [{lo:.4f}, {hi:.4f}] from rounding alone"))
+    else:
+        fits.append(FitRow("ε", eps, None, (None, None), "inverse of eq. (9)", True,
+                           "the ratio is printed as a fraction, with no stated uncertainty"))
+    if fit is not None and data is not None:
+        fits += fit_rows(fit, {"eps": "ε"}, "least squares on eq. (9)", f"{data[2]}; n = {fit.n_data}")
+    modern = modern_rows(exp.modern, {
+        "e_c": (r, "−V1/V0 measured by Coriolis"),
+        "e_c(v)": (r, "Coriolis: about constant up to 7 m/s"),
+        "e_t": (r, "√(h1/h0) on marble"),
+    })
+    figures = [_figure_ratio(p, r, eps, exp)]
+    if data is not None and fit is not None:
+        figures.append(_figure_series(data, fit, r, p))
+    return Reproduction(exp, rows_for(exp, computed), tuple(fits), tuple(figures), modern,
+                        data_note="" if data is None else data[2])
+
+
+def _printed_eps(exp: Experiment) -> float | None:
+    return next((x.value for x in exp.printed if x.computed == "eps"), None)
+
+
+def _figure_ratio(p: Params, r: float, eps: float, exp: Experiment) -> FigureSpec:
+    printed = _printed_eps(exp)
+    if p.quantity == "velocity_ratio":
+        x = np.linspace(0.0, 1.0, 201)
+        layers = [layer("line", x, impact.eps_from_velocity_ratio(x), label="ε = (1 − r)/(1 + r), eq. (9)"),
+                  layer("points", [r], [eps], label=f"computed: r = {r:.3g} ⇒ ε = {eps:.4f}", color="C3")]
+        if printed is not None:
+            layers.append(layer("points", [r], [printed], label=f"printed ε = {printed:g}", color="C1", marker="x"))
+        for m in modern_rows(("e_c",), {"e_c": (r, "")}) if "e_c" in exp.modern else ():
+            if m["low"] is not None and m["high"] is not None:
+                layers.append(layer("vband", [m["low"], m["high"]], label=f"modern cushion e: {m['source'][:40]}",
+                                    color="C2"))
+        return FigureSpec("eps-vs-ratio", "ε against the measured velocity ratio (eq. 9)",
+                          "velocity ratio r = −V1/V0", "Résal's ε", tuple(layers), (0, 1), (0, 1))
+    e = np.linspace(0.0, 1.0, 201)
+    layers = [layer("line", e, impact.velocity_ratio_from_eps(e) ** 2, label="h1/h0 = ((1 − ε)/(1 + ε))², eq. (9)"),
+              layer("points", [eps], [p.value], label=f"computed: ε = {eps:.4f}", color="C3")]
+    if printed is not None:
+        layers.append(layer("points", [printed], [p.value], label=f"printed: ε = {printed:g}", color="C1", marker="x"))
+        layers.append(layer("points", [printed], [float(impact.velocity_ratio_from_eps(printed)) ** 2],
+                            label="what the printed ε predicts", color="C1", marker="s"))
+    return FigureSpec("height-vs-eps", "Rebound height ratio against ε (eq. 9)", "Résal's ε",
+                      "rebound height ratio h1/h0", tuple(layers), (0, 1), (0, 1))
+
+
+def _figure_series(data: tuple[np.ndarray, np.ndarray, str], fit: FitResult, r: float, p: Params) -> FigureSpec:
+    V0, V1, label = data
+    est = fit.estimates[0]
+    x = np.linspace(0.0, float(V0.max()) * 1.05, 50)
+    layers = [layer("points", V0, -V1, label=label, color="C0"),
+              layer("line", x, -impact.infinite_mass_impact(x, est.value), label=f"fit: ε = {est.value:.4f}",
+                    color="C3")]
+    if est.ci95[0] is not None:
+        layers.append(layer("band", x, -impact.infinite_mass_impact(x, est.ci95[1]),
+                            -impact.infinite_mass_impact(x, est.ci95[0]), label="95 % interval of ε", color="C3"))
+    layers.append(layer("line", x, r * x, label=f"paper's ratio {r:.4g}", color="C7", style="--"))
+    return FigureSpec("series", "Rebound speed against impact speed", "impact speed V0 (m/s)",
+                      "rebound speed −V1 (m/s)", tuple(layers), caption=label)

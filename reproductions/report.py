@@ -1,0 +1,264 @@
+"""Reproductions → ``summary.json`` (the machine-readable truth) and its renderings: tables, figures, index.
+
+Every experiment is written into a staging folder beside its final place and swapped in only when
+complete, so an error leaves earlier results untouched. Output is deterministic: stable key order,
+``repr`` floats, figures without time stamps.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import platform
+import shutil
+import subprocess
+import tempfile
+from collections.abc import Iterable
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+from . import __version__
+from .errors import InputError
+from .experiments.base import FigureSpec, Reproduction
+
+__all__ = ["provenance", "summary", "write_index", "write_reproduction"]
+
+HEADERS = ("quantity", "§ / eq.", "printed", "computed", "rel. diff", "verdict", "note")
+
+
+def provenance(rep: Reproduction) -> dict[str, Any]:
+    """Version, git commit, config hash and library versions; golden comparisons ignore this block."""
+    import numpy
+    import scipy
+
+    root = Path(__file__).resolve().parent.parent
+    commit, dirty = None, None
+    try:
+        commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True,
+                                timeout=5).stdout.strip() or None
+        if commit:
+            status = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=root,
+                                    capture_output=True, text=True, timeout=5).stdout
+            dirty = bool(status.strip())
+    except (OSError, subprocess.SubprocessError):
+        pass
+    return {"version": __version__, "git_commit": commit, "dirty": dirty, "config": rep.experiment.path,
+            "config_sha256": rep.experiment.sha256, "python": platform.python_version(),
+            "numpy": numpy.__version__, "scipy": scipy.__version__, "seed": rep.experiment.seed}
+
+
+def _figure_files(rep: Reproduction) -> list[str]:
+    return [f"{f.name}.{ext}" for f in rep.figures for ext in ("png", "pdf")]
+
+
+def summary(rep: Reproduction, prov: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The ``summary.json`` object (schema in ARCHITECTURE.md)."""
+    e = rep.experiment
+    return {
+        "experiment": e.id,
+        "title": e.title,
+        "kind": e.kind,
+        "source": {"section": e.source.section, "page": e.source.page, "equations": list(e.source.equations)},
+        "data_note": rep.data_note,
+        "rows": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(r).items()} for r in rep.rows],
+        "fits": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(f).items()} for f in rep.fits],
+        "modern": [dict(m) for m in rep.modern],
+        "figures": _figure_files(rep),
+        "notes": list(e.notes),
+        "provenance": prov if prov is not None else {},
+    }
+
+
+def _fmt(v: Any, digits: int = 6) -> str:
+    if v is None:
+        return "—"
+    if isinstance(v, float):
+        if math.isnan(v):
+            return "nan"
+        return f"{v:.{digits}g}"
+    return str(v)
+
+
+def _rel(v: float | None) -> str:
+    return "—" if v is None else f"{v:+.2%}"
+
+
+def _row_cells(r: dict[str, Any]) -> list[str]:
+    return [r["quantity"], r["source"], f"{r['printed_text']}", _fmt(r["computed"]), _rel(r["rel_diff"]),
+            r["verdict"], r["note"]]
+
+
+def _fit_cells(f: dict[str, Any]) -> list[str]:
+    ci = f["ci95"]
+    ci_s = "—" if ci[0] is None else f"[{_fmt(ci[0], 4)}, {_fmt(ci[1], 4)}]"
+    return [f["parameter"], _fmt(f["value"]), _fmt(f["stderr"], 3), ci_s, "yes" if f["identifiable"] else "no",
+            f["note"]]
+
+
+def _md_escape(s: str) -> str:
+    return s.replace("|", "\\|").replace("\n", " ")
+
+
+def _md_table(headers: Iterable[str], rows: Iterable[list[str]]) -> str:
+    h = list(headers)
+    lines = ["| " + " | ".join(h) + " |", "|" + "---|" * len(h)]
+    lines += ["| " + " | ".join(_md_escape(c) for c in row) + " |" for row in rows]
+    return "\n".join(lines) + "\n"
+
+
+def table_md(s: dict[str, Any]) -> str:
+    src = s["source"]
+    out = [f"# {s['title']}\n", f"Résal (1883), {src['section']}, p. {src['page']}, eqs {', '.join(src['equations'])}."
+           f" Experiment `{s['experiment']}`.\n"]
+    if s["data_note"]:
+        out.append(f"Data: {s['data_note']}\n")
+    out.append("## Printed values\n")
+    out.append(_md_table(HEADERS, (_row_cells(r) for r in s["rows"])))
+    out.append("\n## Fits\n")
+    out.append(_md_table(("parameter", "value", "std. error", "95 % interval", "identifiable", "note"),
+                         (_fit_cells(f) for f in s["fits"])))
+    if s["modern"]:
+        out.append("\n## Today's values\n")
+        out.append(_md_table(("quantity", "resal", "modern low", "typ", "high", "source", "note"), (
+            [m["quantity"], f"{_fmt(m['resal'], 4)} ({m['resal_what']})", _fmt(m["low"]), _fmt(m["typ"]),
+             _fmt(m["high"]), m["source"], m["note"]] for m in s["modern"])))
+    if s["figures"]:
+        out.append("\n## Figures\n")
+        out += [f"![{f}]({f})\n" for f in s["figures"] if f.endswith(".png")]
+    return "\n".join(out)
+
+
+def table_csv(s: dict[str, Any]) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    cols = ["id", "quantity", "source", "printed", "printed_text", "computed", "rel_diff", "tolerance", "verdict",
+            "note"]
+    w.writerow(cols)
+    for r in s["rows"]:
+        w.writerow(["" if r[c] is None else (repr(r[c]) if isinstance(r[c], float) else r[c]) for c in cols])
+    return buf.getvalue()
+
+
+_TEX = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_", "{": r"\{",
+        "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
+
+
+def _tex(s: str) -> str:
+    return "".join(_TEX.get(ch, ch) for ch in s)
+
+
+def table_tex(s: dict[str, Any]) -> str:
+    lines = [f"% {s['title']} (resal {s['experiment']}); needs \\usepackage{{booktabs}} and UTF-8 input",
+             r"\begin{tabular}{llllll}", r"\toprule",
+             " & ".join(_tex(h) for h in HEADERS[:6]) + r" \\", r"\midrule"]
+    lines += [" & ".join(_tex(c) for c in _row_cells(r)[:6]) + r" \\" for r in s["rows"]]
+    lines += [r"\bottomrule", r"\end{tabular}", ""]
+    return "\n".join(lines)
+
+
+def _draw(spec: FigureSpec, folder: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.6), layout="constrained")
+    for ly in spec.layers:
+        if ly.kind == "line":
+            ax.plot(ly.x, ly.y, ly.style, color=ly.color, label=ly.label)
+        elif ly.kind == "points":
+            ax.plot(ly.x, ly.y, linestyle="none", marker=ly.marker, color=ly.color, label=ly.label, ms=7)
+        elif ly.kind == "band":
+            ax.fill_between(ly.x, ly.y, ly.y2, color=ly.color, alpha=0.2, label=ly.label, lw=0)
+        elif ly.kind == "vband":
+            ax.axvspan(ly.x[0], ly.x[1], color=ly.color, alpha=0.15, label=ly.label, lw=0)
+        elif ly.kind == "hband":
+            ax.axhspan(ly.y[0], ly.y[1], color=ly.color, alpha=0.15, label=ly.label, lw=0)
+        else:
+            raise ValueError(f"unknown layer kind {ly.kind!r}")
+    ax.set(title=spec.title, xlabel=spec.xlabel, ylabel=spec.ylabel)
+    if spec.xlim:
+        ax.set_xlim(*spec.xlim)
+    if spec.ylim:
+        ax.set_ylim(*spec.ylim)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
+    if spec.caption:
+        fig.text(0.01, 0.005, spec.caption, fontsize=7, color="0.3")
+    fig.savefig(folder / f"{spec.name}.png", dpi=120, metadata={"Software": None})
+    fig.savefig(folder / f"{spec.name}.pdf", metadata={"Creator": None, "Producer": None, "CreationDate": None})
+    plt.close(fig)
+
+
+def _atomic_text(path: Path, text: str) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def ensure_writable(out: Path, where: str = "--out") -> None:
+    """Fail early, before any work, when the output folder cannot be created or written."""
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{where} {out}", f"cannot create the output folder ({exc.strerror})") from None
+    if not out.is_dir() or not os.access(out, os.W_OK | os.X_OK):
+        raise InputError(f"{where} {out}", "the output folder is not a writable directory")
+
+
+def write_reproduction(rep: Reproduction, out: Path, prov: dict[str, Any] | None = None) -> Path:
+    """Write ``out/<experiment>/`` completely in a staging folder, then swap it in."""
+    s = summary(rep, prov if prov is not None else provenance(rep))
+    final = out / rep.experiment.id
+    try:
+        stage = Path(tempfile.mkdtemp(dir=out, prefix=f".{rep.experiment.id}.staging-"))
+    except OSError as exc:
+        raise InputError(f"--out {out}", f"cannot write the output folder ({exc.strerror})") from None
+    try:
+        (stage / "summary.json").write_text(json.dumps(s, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+        (stage / "table.md").write_text(table_md(s), encoding="utf-8")
+        (stage / "table.csv").write_text(table_csv(s), encoding="utf-8")
+        (stage / "table.tex").write_text(table_tex(s), encoding="utf-8")
+        for spec in rep.figures:
+            _draw(spec, stage)
+        old = None
+        if final.exists():
+            old = out / f".{rep.experiment.id}.old-{os.getpid()}"
+            os.replace(final, old)
+        os.replace(stage, final)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    except BaseException:
+        shutil.rmtree(stage, ignore_errors=True)
+        raise
+    return final
+
+
+def write_index(out: Path) -> Path:
+    """``out/index.md``: one line per experiment found under ``out``, with its verdict counts."""
+    lines = ["# resal: results\n", "Reproduction of H. Résal (1883), *Commentaire à la théorie mathématique du jeu "
+             "de billard*. One folder per experiment; `summary.json` holds every number.\n",
+             "| experiment | section | title | reproduced | differs | not checkable | tables |",
+             "|---|---|---|---|---|---|---|"]
+    for d in sorted(p for p in out.iterdir() if p.is_dir() and not p.name.startswith(".")):
+        f = d / "summary.json"
+        if not f.is_file():
+            continue
+        s = json.loads(f.read_text(encoding="utf-8"))
+        v = [r["verdict"] for r in s["rows"]]
+        lines.append(f"| [{s['experiment']}]({d.name}/table.md) | {s['source']['section']} | {_md_escape(s['title'])} "
+                     f"| {v.count('reproduced')} | {v.count('differs')} | {v.count('not-checkable')} "
+                     f"| [md]({d.name}/table.md) · [csv]({d.name}/table.csv) · [tex]({d.name}/table.tex) · "
+                     f"[json]({d.name}/summary.json) |")
+    path = out / "index.md"
+    _atomic_text(path, "\n".join(lines) + "\n")
+    return path
