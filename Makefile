@@ -30,7 +30,7 @@ stress:
 	@echo "make stress: not built yet (stability sweeps arrive with the §III-§VII models)" >&2; exit 1
 
 golden: $(STAMP)
-	$(BIN)/resal golden
+	$(BIN)/python -m reproductions.golden
 
 clean:
 	rm -rf results build *.egg-info .pytest_cache .ruff_cache .hypothesis

@@ -180,15 +180,16 @@ def _draw(spec: FigureSpec, folder: Path) -> None:
             ax.axhspan(ly.y[0], ly.y[1], color=ly.color, alpha=0.15, label=ly.label, lw=0)
         else:
             raise ValueError(f"unknown layer kind {ly.kind!r}")
-    ax.set(title=spec.title, xlabel=spec.xlabel, ylabel=spec.ylabel)
+    fig.suptitle(spec.title)
+    if spec.caption:
+        ax.set_title(spec.caption, fontsize=7, color="0.3", wrap=True)
+    ax.set(xlabel=spec.xlabel, ylabel=spec.ylabel)
     if spec.xlim:
         ax.set_xlim(*spec.xlim)
     if spec.ylim:
         ax.set_ylim(*spec.ylim)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
-    if spec.caption:
-        fig.text(0.01, 0.005, spec.caption, fontsize=7, color="0.3")
     fig.savefig(folder / f"{spec.name}.png", dpi=120, metadata={"Software": None})
     fig.savefig(folder / f"{spec.name}.pdf", metadata={"Creator": None, "Producer": None, "CreationDate": None})
     plt.close(fig)

@@ -1,0 +1,56 @@
+"""The §I experiments: verdicts of the printed values, and what the fits say."""
+
+import pytest
+
+from reproductions import api
+
+
+def _rows(eid):
+    rep = api.run(api.load(eid))
+    return rep, {r.id: r for r in rep.rows}
+
+
+def test_pendulum_reproduces_the_paper_reading_and_flags_the_swap():
+    rep, rows = _rows("coriolis-pendulum")
+    assert rows["combination"].computed == pytest.approx(24 / 5, rel=1e-12)
+    assert rows["epsp_fraction"].verdict == "reproduced"
+    assert rows["epsp_decimal"].verdict == "reproduced"
+    assert rows["n_equations"].computed == 1.0
+    assert rows["eps_premise"].computed == pytest.approx(0.8, rel=1e-12)
+    assert rows["swapped_vii"].verdict == "differs"
+    assert rows["swapped_vii"].computed == pytest.approx(6 / (1 + 4 / 15 + 3), rel=1e-12)
+    assert abs(rows["momentum_balance"].computed) < 1e-12
+    fit_by_name = {f.parameter: f for f in rep.fits}
+    assert not fit_by_name["ε (cue)"].identifiable
+    assert fit_by_name["ε (cue)"].family_range == pytest.approx((0.0, 0.8), abs=1e-6)
+    (comb,) = [f for f in rep.fits if "+" in f.parameter]
+    assert comb.value == pytest.approx(0.8, rel=1e-6)
+    assert comb.ci95[0] < 0.8 < comb.ci95[1]
+
+
+def test_cushion_eps_is_reproduced_and_the_synthetic_fit_is_labelled():
+    rep, rows = _rows("coriolis-cushion")
+    assert rows["eps"].computed == pytest.approx(0.45 / 1.55, rel=1e-12)
+    assert rows["eps"].verdict == "reproduced"
+    series_fit = rep.fits[1]
+    assert "SYNTHETIC" in series_fit.note
+    assert series_fit.ci95[0] < rows["eps"].computed < series_fit.ci95[1]
+    assert "SYNTHETIC" in rep.data_note
+
+
+def test_marble_eps_differs_with_a_reason():
+    _, rows = _rows("marble-drop")
+    r = rows["eps"]
+    assert r.computed == pytest.approx((1 - (2 / 3) ** 0.5) / (1 + (2 / 3) ** 0.5), rel=1e-12)
+    assert r.verdict == "differs"
+    assert "slip" in r.note
+    assert rows["velocity_ratio"].verdict == "differs" and "truncated" in rows["velocity_ratio"].note
+    assert rows["eps_no_rebound"].verdict == "not-checkable"
+
+
+def test_printed_tolerance_follows_the_printed_digits():
+    exp = api.load("coriolis-pendulum")
+    p = {x.id: x for x in exp.printed}
+    assert p["epsp_decimal"].tolerance == pytest.approx(0.005 / 0.27)
+    assert p["epsp_fraction"].tolerance == pytest.approx(1e-9)
+    assert p["momentum_balance"].value is None

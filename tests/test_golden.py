@@ -1,0 +1,42 @@
+"""Every shipped experiment against its golden numbers (``make golden`` regenerates them on purpose)."""
+
+import copy
+import json
+
+import pytest
+
+from reproductions import api, golden
+from reproductions.report import summary
+
+IDS = api.experiment_ids()
+
+
+@pytest.fixture(scope="module")
+def summaries():
+    return {i: summary(api.run(api.load(i)), prov={}) for i in IDS}
+
+
+def test_every_config_has_a_golden_file():
+    assert IDS, "no experiments found"
+    missing = [i for i in IDS if not (golden.GOLDEN_DIR / f"{i}.json").is_file()]
+    assert not missing, f"no golden file for {missing}: run `make golden` and review the numbers"
+
+
+@pytest.mark.parametrize("eid", IDS)
+def test_summary_matches_golden(eid, summaries):
+    path = golden.GOLDEN_DIR / f"{eid}.json"
+    if not path.is_file():
+        pytest.fail(f"missing golden file {path}")
+    diffs = golden.compare(json.loads(path.read_text(encoding="utf-8")), summaries[eid])
+    assert not diffs, "\n".join(diffs)
+
+
+def test_compare_catches_a_moved_number_and_a_flipped_verdict(summaries):
+    s = summaries["coriolis-pendulum"]
+    g = golden.golden_object(s)
+    moved = copy.deepcopy(s)
+    moved["rows"][1]["computed"] *= 1 + 1e-6
+    moved["rows"][0]["verdict"] = "differs"
+    diffs = golden.compare(g, moved)
+    assert len(diffs) == 2
+    assert golden.compare(g, s) == []

@@ -1,0 +1,90 @@
+"""Results on disk and the command line: files, schema, determinism, index, JSON outputs."""
+
+import json
+
+import pytest
+from typer.testing import CliRunner
+
+from cli.main import app
+from reproductions import api, report
+
+runner = CliRunner()
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory):
+    out = tmp_path_factory.mktemp("results")
+    res = runner.invoke(app, ["reproduce", "--all", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    return out
+
+
+def test_all_experiments_written_with_tables_figures_and_index(written):
+    for eid in api.experiment_ids():
+        d = written / eid
+        for name in ("summary.json", "table.md", "table.csv", "table.tex"):
+            assert (d / name).stat().st_size > 0, name
+        s = json.loads((d / "summary.json").read_text())
+        assert s["figures"] and all((d / f).stat().st_size > 1000 for f in s["figures"])
+        assert {"experiment", "title", "source", "rows", "fits", "figures", "provenance"} <= s.keys()
+        assert {"version", "git_commit", "config_sha256", "seed"} <= s["provenance"].keys()
+        for r in s["rows"]:
+            assert r["verdict"] in ("reproduced", "differs", "not-checkable")
+            assert r["verdict"] != "differs" or r["note"]
+    index = (written / "index.md").read_text()
+    assert all(f"[{eid}]({eid}/table.md)" in index for eid in api.experiment_ids())
+    assert not [p for p in written.iterdir() if p.name.startswith(".")]  # no staging leftovers
+
+
+def test_outputs_are_deterministic(tmp_path):
+    rep = api.run(api.load("coriolis-pendulum"))
+    prov = report.provenance(rep)
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    a = report.write_reproduction(rep, tmp_path / "a", prov)
+    b = report.write_reproduction(api.run(api.load("coriolis-pendulum")), tmp_path / "b", prov)
+    for name in ("summary.json", "table.md", "table.csv", "table.tex", "pendulum.png", "pendulum.pdf"):
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+
+
+def test_reproduce_json_prints_the_summary(tmp_path):
+    res = runner.invoke(app, ["reproduce", "marble-drop", "--json", "--out", str(tmp_path)])
+    assert res.exit_code == 0
+    s = json.loads(res.stdout)
+    assert s["experiment"] == "marble-drop"
+    assert [r["id"] for r in s["rows"]] == ["eps", "velocity_ratio", "eps_no_rebound"]
+
+
+def test_reproduce_a_user_yaml_by_path(tmp_path):
+    text = (api.config_dir() / "marble-drop.yaml").read_text().replace("id: marble-drop", "id: my-drop")
+    text = text.replace("value: 2/3", "value: 0.5")
+    cfg = tmp_path / "mine.yaml"
+    cfg.write_text(text)
+    res = runner.invoke(app, ["reproduce", str(cfg), "--json", "--out", str(tmp_path / "out")])
+    assert res.exit_code == 0, res.output
+    s = json.loads(res.stdout)
+    eps = next(r for r in s["rows"] if r["id"] == "eps")["computed"]
+    assert eps == pytest.approx((1 - 0.5**0.5) / (1 + 0.5**0.5))
+
+
+def test_list_shows_every_experiment():
+    res = runner.invoke(app, ["list"])
+    assert res.exit_code == 0
+    for eid in api.experiment_ids():
+        assert eid in res.stdout
+
+
+def test_simulate_direct_impact_json():
+    res = runner.invoke(app, ["simulate", "direct-impact", "--set", "M=3", "--set", "Mp=1", "--set", "V0=1",
+                              "--set", "eps=0", "--set", "epsp=0.2667", "--json"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.stdout)
+    assert out["model"] == "direct-impact" and "eq. (7)" in out["method"]
+    assert out["outputs"]["V1p"] == pytest.approx(6 / (1 + 3 * 1.2667), rel=1e-12)
+    assert out["inputs"]["V0p"] == 0.0
+
+
+def test_simulate_list_names_models_and_parameters():
+    res = runner.invoke(app, ["simulate", "--list"])
+    assert res.exit_code == 0
+    assert "direct-impact" in res.stdout and "wall-impact" in res.stdout and "epsp=0" in res.stdout
