@@ -114,3 +114,13 @@ def test_paper_reading_reproduces_coriolis_ratios():
     r = impact.direct_impact(3.0, 1.0, 1.0, 0.0, 0.0, 4 / 15)
     assert float(r.V1) == pytest.approx(7 / 12, rel=1e-14)
     assert float(r.V1p) == pytest.approx(5 / 4, rel=1e-14)
+
+
+def test_stress_sweep_over_extreme_inputs_is_stable():
+    from reproductions import stress
+
+    res = stress.sweep()
+    assert res["non_finite"] == 0
+    assert res["max_momentum_rel_error"] < 1e-12
+    assert res["max_energy_law_rel_error"] < 1e-12
+    assert res["max_energy_gained_rel"] < 1e-12
