@@ -148,6 +148,44 @@ def simulate(
     out_console.print(t)
 
 
+def _read_summary(path: Path) -> dict[str, Any]:
+    f = path / "summary.json" if path.is_dir() else path
+    try:
+        obj = json.loads(f.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InputError(str(f), f"cannot read ({exc.strerror})") from None
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(str(f), f"not a summary.json file ({exc})") from None
+    if not isinstance(obj, dict) or not {"rows", "fits", "modern", "figures"} <= obj.keys():
+        raise InputError(str(f), "not a summary.json file (expected rows, fits, modern, figures)")
+    return obj
+
+
+@app.command()
+def diff(
+    a: Annotated[Path, typer.Argument(help="summary.json (or its folder): the reference")],
+    b: Annotated[Path, typer.Argument(help="summary.json (or its folder): the one to check")],
+    rtol: Annotated[float | None, typer.Option(help="one relative tolerance for every number")] = None,
+) -> None:
+    """Compare the numbers of two summaries, provenance ignored; exit 1 when they differ."""
+    from reproductions import golden
+
+    try:
+        ref, new = _read_summary(a), _read_summary(b)
+    except InputError as err:
+        _fail(err)
+    g = golden.golden_object(ref)
+    if rtol is not None:
+        for v in g["values"].values():
+            v["rtol"] = rtol
+    diffs = golden.compare(g, new)
+    for d in diffs:
+        out_console.print(Text(d))
+    if diffs:
+        raise typer.Exit(1)
+    out_console.print(f"same numbers ({len(g['values'])} quantities)")
+
+
 def main() -> None:
     app()
 

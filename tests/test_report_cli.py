@@ -88,3 +88,18 @@ def test_simulate_list_names_models_and_parameters():
     res = runner.invoke(app, ["simulate", "--list"])
     assert res.exit_code == 0
     assert "direct-impact" in res.stdout and "wall-impact" in res.stdout and "epsp=0" in res.stdout
+
+
+def test_diff_finds_a_changed_number_and_accepts_identical(written, tmp_path):
+    a = written / "coriolis-cushion" / "summary.json"
+    same = runner.invoke(app, ["diff", str(a), str(written / "coriolis-cushion")])
+    assert same.exit_code == 0, same.output
+    s = json.loads(a.read_text())
+    s["rows"][0]["computed"] = 0.3
+    b = tmp_path / "b.json"
+    b.write_text(json.dumps(s))
+    changed = runner.invoke(app, ["diff", str(a), str(b)])
+    assert changed.exit_code == 1
+    assert "rows.eps.computed" in changed.stdout
+    bad = runner.invoke(app, ["diff", str(a), str(tmp_path / "none.json")])
+    assert bad.exit_code == 2
