@@ -87,13 +87,21 @@ def reproduce(
         if not names:
             raise InputError("arguments", "name an experiment id, a YAML path, or use --all")
         exps = [api.load(n) for n in names]  # validate everything before running or writing anything
+        seen: dict[str, str] = {}
+        for n, e in zip(names, exps, strict=True):
+            if e.id in seen:
+                raise InputError(n, f"experiment id '{e.id}' is also the id of {seen[e.id]}: both would write "
+                                    f"{out / e.id}")
+            seen[e.id] = n
         report.ensure_writable(out)
         summaries = []
         with err_console.status("") as status:
-            for i, e in enumerate(exps, 1):
+            reps = []
+            for i, e in enumerate(exps, 1):  # run all first: a bad data file stops before anything is written
                 status.update(f"[{i}/{len(exps)}] {e.id}: running")
-                rep = api.run(e)
-                status.update(f"[{i}/{len(exps)}] {e.id}: writing tables and figures")
+                reps.append(api.run(e))
+            for i, rep in enumerate(reps, 1):
+                status.update(f"[{i}/{len(reps)}] {rep.experiment.id}: writing tables and figures")
                 folder = report.write_reproduction(rep, out)
                 summaries.append(json.loads((folder / "summary.json").read_text(encoding="utf-8")))
             report.write_index(out)

@@ -135,7 +135,7 @@ class Node:
     def number_node(self, key: str, what: str = "a number") -> tuple[float, bool, str, yaml.ScalarNode]:
         """(value, exact, raw text, node) of a numeric scalar."""
         n = self._scalar(key, what)
-        value = _construct(n)
+        value = _construct(n, self.file, self._name(key))
         parsed = parse_number(value)
         if parsed is None or not math.isfinite(parsed[0]):
             raise self.fail(f"'{self._name(key)}' must be {what}, got '{n.value}'", n)
@@ -162,7 +162,7 @@ class Node:
         if default is not None and not self.has(key):
             return default
         n = self._scalar(key, what)
-        value = _construct(n)
+        value = _construct(n, self.file, self._name(key))
         if isinstance(value, bool) or not isinstance(value, int) or value < lo:
             raise self.fail(f"'{self._name(key)}' must be {what} ≥ {lo}, got '{n.value}'", n)
         return value
@@ -176,8 +176,15 @@ class Node:
         return tuple(i.value for i in n.value)
 
 
-def _construct(n: yaml.ScalarNode) -> Any:
-    return yaml.SafeLoader("").construct_object(n, deep=True)
+def _construct(n: yaml.ScalarNode, file: str, name: str) -> Any:
+    """The Python value of a scalar; a value PyYAML cannot build (a bad date, a bad tag) is an input error."""
+    try:
+        return yaml.SafeLoader("").construct_object(n, deep=True)
+    except (yaml.YAMLError, ValueError, TypeError, OverflowError) as exc:
+        why = exc.problem if isinstance(exc, yaml.MarkedYAMLError) and exc.problem else str(exc)
+        tag = "" if n.tag.startswith("tag:yaml.org,2002:") else f" {n.tag}"
+        raise InputError(f"{file}:{n.start_mark.line + 1}",
+                         f"'{name}' cannot be read from '{tag.strip()}{' ' if tag else ''}{n.value}': {why}") from None
 
 
 @dataclass(frozen=True)
@@ -233,12 +240,13 @@ def _printed(node: Node, quantities: tuple[str, ...]) -> Printed:
     pid = node.string("id")
     computed = node.string("computed", default=pid)
     if computed not in quantities:
+        at = node._mapping().get("computed", node.node)
         raise node.fail(f"'{node.path}.computed' names no quantity this kind computes: '{computed}' "
-                        f"(expected one of {', '.join(quantities)})")
+                        f"(expected one of {', '.join(quantities)})", at)
     quantity = node.string("quantity")
     source = node.string("source")
     text = node.string("text")
-    if node.has("value") and _construct(node._mapping()["value"]) is not None:
+    if node.has("value") and _construct(node._mapping()["value"], node.file, f"{node.path}.value") is not None:
         value, exact, raw, _ = node.number_node("value", "a number or a fraction such as 4/15")
         tol, rule = _tolerance(value, exact, raw)
     else:
@@ -269,7 +277,10 @@ def load_experiment(path: str | Path) -> Experiment:
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark else 1
-        raise InputError(f"{file}:{line}", f"malformed YAML: {exc.problem or exc.context}") from None
+        message = f"malformed YAML: {exc.problem or exc.context}"
+        if exc.problem and exc.context and exc.context_mark and exc.context_mark.line + 1 != line:
+            message += f" ({exc.context} started at line {exc.context_mark.line + 1})"
+        raise InputError(f"{file}:{line}", message) from None
     except yaml.YAMLError as exc:
         raise InputError(file, f"malformed YAML: {exc}") from None
     if doc is None:
@@ -293,10 +304,11 @@ def load_experiment(path: str | Path) -> Experiment:
                         f"(expected some of {', '.join(module.MODERN)})")
     params = module.parse(root.child("params"), p.parent)
     printed = tuple(_printed(n, module.QUANTITIES) for n in root.children("printed"))
-    ids = [x.id for x in printed]
-    dup = sorted({i for i in ids if ids.count(i) > 1})
-    if dup:
-        raise root.fail(f"printed ids must be unique; repeated: {', '.join(dup)}")
+    seen: set[str] = set()
+    for x in printed:
+        if x.id in seen:
+            raise InputError(x.where, f"printed ids must be unique; repeated: {x.id}")
+        seen.add(x.id)
     notes = root.string_list("notes")
     root.done()
     return Experiment(eid, kind, title, source, printed, params, seed, modern, file,
