@@ -167,6 +167,15 @@ class Node:
             raise self.fail(f"'{self._name(key)}' must be {what} ≥ {lo}, got '{n.value}'", n)
         return value
 
+    def boolean(self, key: str, default: bool) -> bool:
+        if not self.has(key):
+            return default
+        n = self._scalar(key, "true or false")
+        value = _construct(n, self.file, self._name(key))
+        if not isinstance(value, bool):
+            raise self.fail(f"'{self._name(key)}' must be true or false, got '{n.value}'", n)
+        return value
+
     def string_list(self, key: str, default: tuple[str, ...] = ()) -> tuple[str, ...]:
         if not self.has(key):
             return default
@@ -207,6 +216,7 @@ class Printed:
     tolerance: float | None
     tolerance_rule: str
     where: str
+    formula: bool = False  # a printed formula: ``computed`` is then its largest discrepancy from the reference
 
 
 @dataclass(frozen=True)
@@ -252,11 +262,15 @@ def _printed(node: Node, quantities: tuple[str, ...]) -> Printed:
     else:
         node._used.add("value")
         value, tol, rule = None, None, "no printed number"
+    formula = node.boolean("formula", default=False)
+    if formula and (value is not None or not node.has("tolerance")):
+        raise node.fail(f"'{node.path}' is a formula: it takes no 'value' and needs a 'tolerance' on the "
+                        "discrepancy, with its 'tolerance_rule'")
     if node.has("tolerance"):
         tol = node.number("tolerance", "a relative tolerance", lo=0.0, lo_open=True)
         rule = node.string("tolerance_rule")
     node.done()
-    return Printed(pid, computed, quantity, source, value, text, tol, rule, node.where())
+    return Printed(pid, computed, quantity, source, value, text, tol, rule, node.where(), formula)
 
 
 def load_experiment(path: str | Path) -> Experiment:

@@ -120,8 +120,12 @@ def least_squares_fit(
     names: Sequence[str],
     bounds: tuple[Sequence[float], Sequence[float]],
     sigma: np.ndarray | float | None = None,
+    jac: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> FitResult:
-    """Minimise Σ (rᵢ/σᵢ)² within bounds, then report uncertainties and identifiability (see module doc)."""
+    """Minimise Σ (rᵢ/σᵢ)² within bounds, then report uncertainties and identifiability (see module doc).
+
+    ``jac`` (the Jacobian of the unweighted residuals) is optional; without it, central differences.
+    """
     lo, hi = (np.asarray(b, dtype=float) for b in bounds)
     w = None if sigma is None else 1.0 / np.asarray(sigma, dtype=float)
 
@@ -129,11 +133,17 @@ def least_squares_fit(
         r = np.asarray(residuals(x), dtype=float)
         return r if w is None else r * w
 
+    def weighted_jac(x: np.ndarray) -> np.ndarray:
+        assert jac is not None
+        J = np.asarray(jac(x), dtype=float)
+        return J if w is None else J * np.broadcast_to(w, (J.shape[0],))[:, None]
+
     sol = optimize.least_squares(weighted, np.asarray(x0, dtype=float), bounds=(lo, hi), method="trf",
+                                 jac=weighted_jac if jac is not None else "2-point",
                                  xtol=1e-14, ftol=1e-14, gtol=1e-14)
     x = sol.x
     r = weighted(x)
-    J = _jacobian(weighted, x)
+    J = weighted_jac(x) if jac is not None else _jacobian(weighted, x)
     _, s, Vt = np.linalg.svd(J, full_matrices=True)
     s_full = np.zeros(x.size)
     s_full[: s.size] = s
@@ -206,7 +216,13 @@ def fit_direct_impact(
         out = impact.direct_impact(M, Mp, V0, 0.0, theta[0], theta[1])
         return np.concatenate([out.V1 - V1, out.V1p - V1p])
 
-    return least_squares_fit(res, [0.5, 0.5], ["eps", "epsp"], ([0.0, 0.0], [1.0, 1.0]), sigma)
+    def jac(theta: np.ndarray) -> np.ndarray:
+        # V1 = V0 − 2M′V0/D, V1′ = 2M V0/D, with ∂D/∂ε = M′ and ∂D/∂ε′ = M
+        D = impact.denominator(M, Mp, theta[0], theta[1])
+        g1, g2 = 2 * Mp * V0 / D**2, -2 * M * V0 / D**2
+        return np.block([[np.c_[g1 * Mp, g1 * M]], [np.c_[g2 * Mp, g2 * M]]])
+
+    return least_squares_fit(res, [0.5, 0.5], ["eps", "epsp"], ([0.0, 0.0], [1.0, 1.0]), sigma, jac)
 
 
 def fit_rebound(V0: np.ndarray, V1: np.ndarray, sigma: float | None = None) -> FitResult:
@@ -216,4 +232,7 @@ def fit_rebound(V0: np.ndarray, V1: np.ndarray, sigma: float | None = None) -> F
     def res(theta: np.ndarray) -> np.ndarray:
         return impact.infinite_mass_impact(V0, theta[0]) - V1
 
-    return least_squares_fit(res, [0.5], ["eps"], ([0.0], [1.0]), sigma)
+    def jac(theta: np.ndarray) -> np.ndarray:
+        return (2.0 * V0 / (1.0 + theta[0]) ** 2)[:, None]  # d/dε of −(1 − ε)/(1 + ε)·V0
+
+    return least_squares_fit(res, [0.5], ["eps"], ([0.0], [1.0]), sigma, jac)

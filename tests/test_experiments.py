@@ -54,3 +54,31 @@ def test_printed_tolerance_follows_the_printed_digits():
     assert p["epsp_decimal"].tolerance == pytest.approx(0.005 / 0.27)
     assert p["epsp_fraction"].tolerance == pytest.approx(1e-9)
     assert p["momentum_balance"].value is None
+
+
+def test_printed_formulas_agree_with_the_integration_and_a_wrong_one_would_not():
+    from reproductions.experiments import pendulum
+    from reproductions.experiments.base import Computed, compare
+
+    _, rows = _rows("coriolis-pendulum")
+    for rid in ("eq_b", "eq7", "eq8"):
+        assert rows[rid].verdict == "reproduced" and rows[rid].printed is None
+        assert rows[rid].computed < 1e-7
+    p = next(x for x in api.load("coriolis-pendulum").printed if x.id == "eq7")
+    # a mis-transcribed (7), with M and M′ swapped in the denominator, is caught by the same check
+    M, Mp, V0, eps, epsp = 3.0, 1.0, 1.0, 0.1, 0.4
+    good = pendulum._printed_eq7(M, Mp, V0, 0.0, eps, epsp)[1]
+    den_swapped = M * (1 + eps) + Mp * (1 + epsp)
+    wrong = 2 * M * V0 / den_swapped
+    assert compare(p, Computed(abs(wrong - good))).verdict == "differs"
+
+
+def test_a_formula_row_takes_no_value(tmp_path):
+    from reproductions.errors import InputError
+
+    text = (api.config_dir() / "coriolis-cushion.yaml").read_text()
+    text = text.replace("    formula: true\n", "    formula: true\n    value: 0\n", 1)
+    cfg = tmp_path / "f.yaml"
+    cfg.write_text(text)
+    with pytest.raises(InputError, match="is a formula"):
+        api.load(str(cfg))

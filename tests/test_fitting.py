@@ -74,3 +74,18 @@ def test_collinear_linear_model_is_reported_rank_deficient():
     assert comb.coefficients == pytest.approx((1.0, 2.0), rel=1e-6)
     assert comb.value == pytest.approx(y.mean(), rel=1e-8)
     assert comb.stderr is not None and comb.stderr > 0
+
+
+def test_analytic_jacobians_match_finite_differences():
+    M, Mp = np.array([3.0, 1.0]), np.array([1.0, 2.0])
+    V0 = np.array([1.0, 2.0])
+    r = impact.direct_impact(M, Mp, V0, 0.0, 0.2, 0.3)
+    fit = fitting.fit_direct_impact(M, Mp, V0, r.V1, r.V1p)
+
+    def res(t):
+        out = impact.direct_impact(M, Mp, V0, 0.0, t[0], t[1])
+        return np.concatenate([out.V1 - r.V1, out.V1p - r.V1p])
+
+    J_fd = fitting._jacobian(res, np.array(fit.point))
+    s_fd = np.linalg.svd(J_fd, compute_uv=False)
+    np.testing.assert_allclose(fit.identifiability.singular_values, s_fd, rtol=1e-6)

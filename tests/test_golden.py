@@ -35,8 +35,13 @@ def test_compare_catches_a_moved_number_and_a_flipped_verdict(summaries):
     s = summaries["coriolis-pendulum"]
     g = golden.golden_object(s)
     moved = copy.deepcopy(s)
-    moved["rows"][1]["computed"] *= 1 + 1e-6
-    moved["rows"][0]["verdict"] = "differs"
+    rows = {r["id"]: r for r in moved["rows"]}
+    rows["combination"]["computed"] *= 1 + 1e-6
+    rows["n_equations"]["verdict"] = "differs"
+    rows["eq7"]["computed"] += 5e-8  # formula discrepancies are compared to their own tolerance (1e-7)
     diffs = golden.compare(g, moved)
-    assert len(diffs) == 2
+    assert [d.split(":")[0] for d in diffs] == ["rows.combination.computed", "rows.n_equations.verdict"]
+    rows["eq7"]["computed"] += 1e-6
+    diffs = golden.compare(g, moved)
+    assert len(diffs) == 3 and diffs[1].startswith("rows.eq7.computed")
     assert golden.compare(g, s) == []

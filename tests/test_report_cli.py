@@ -95,7 +95,7 @@ def test_diff_finds_a_changed_number_and_accepts_identical(written, tmp_path):
     same = runner.invoke(app, ["diff", str(a), str(written / "coriolis-cushion")])
     assert same.exit_code == 0, same.output
     s = json.loads(a.read_text())
-    s["rows"][0]["computed"] = 0.3
+    next(r for r in s["rows"] if r["id"] == "eps")["computed"] = 0.3
     b = tmp_path / "b.json"
     b.write_text(json.dumps(s))
     changed = runner.invoke(app, ["diff", str(a), str(b)])

@@ -107,6 +107,12 @@ def layer(kind: str, x: Sequence[float] | np.ndarray = (), y: Sequence[float] | 
 
 def compare(p: Printed, c: Computed) -> Row:
     """The verdict for one printed value: reproduced within the printed digits, differs (with why), or not checkable."""
+    if p.formula and c.value is not None:
+        assert p.tolerance is not None
+        ok = abs(c.value) <= p.tolerance
+        return Row(p.id, p.quantity, p.source, None, p.text, c.value, None, p.tolerance, p.tolerance_rule,
+                   "reproduced" if ok else "differs",
+                   c.how if ok else (c.diagnose(0.0) if c.diagnose else "the printed formula disagrees: " + c.how))
     if p.value is None or c.value is None:
         note = c.how if c.value is not None else "resal computes no value for this claim"
         return Row(p.id, p.quantity, p.source, p.value, p.text, c.value, None, p.tolerance, p.tolerance_rule,

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..config import Experiment, Node
 from ..fitting import FitResult, fit_direct_impact
-from ..mechanics import impact
+from ..mechanics import impact, reference
 from .base import (
     Computed,
     FigureSpec,
@@ -25,8 +25,8 @@ from .base import (
     rows_for,
 )
 
-QUANTITIES = ("n_equations", "combination", "momentum_balance", "epsp_given_eps", "eps_given_epsp",
-              "swapped_struck_ratio")
+QUANTITIES = ("eq_b_vs_integration", "eq7_vs_integration", "eq8_vs_integration", "n_equations", "combination",
+              "momentum_balance", "epsp_given_eps", "eps_given_epsp", "swapped_struck_ratio")
 MODERN = ("e_tip", "m_ball/m_cue")
 
 
@@ -89,6 +89,46 @@ def _trials(p: Params) -> tuple[np.ndarray, ...]:
     return M, Mp, s["V0"], s["V1"], s["V1p"]
 
 
+Arrays = tuple[np.ndarray, np.ndarray]
+
+
+def _printed_eq7(M: np.ndarray, Mp: np.ndarray, V0: np.ndarray, V0p: np.ndarray, eps: np.ndarray,
+                 epsp: np.ndarray) -> Arrays:
+    """Eqs (7) of §I n°5 as printed, transcribed only to be compared with the integration."""
+    den = Mp * (1 + eps) + M * (1 + epsp)
+    return V0 - 2 * Mp * (V0 - V0p) / den, V0p + 2 * M * (V0 - V0p) / den
+
+
+def _printed_eq8(M: np.ndarray, Mp: np.ndarray, V0: np.ndarray, eps: np.ndarray, epsp: np.ndarray) -> Arrays:
+    """Eqs (8) of §I n°5 as printed (struck body at rest), transcribed only to be compared."""
+    den = Mp * (1 + eps) + M * (1 + epsp)
+    return V0 * (1 - 2 * Mp / den), 2 * M * V0 / den
+
+
+def formula_checks(seed: int, n: int = 16) -> dict[str, float]:
+    """Largest discrepancy, relative to the approach speed, between each printed formula of n°5 and a direct
+    integration of the two-phase contact (``reference``) at the Newton e that law (6) implies, over n
+    random scenes (struck body at rest for eq. (8))."""
+    rng = np.random.default_rng(seed)
+    M, Mp = rng.uniform(0.1, 5.0, (2, n))
+    V0 = rng.uniform(0.5, 3.0, n)
+    V0p = V0 - rng.uniform(0.2, 3.0, n)
+    eps, epsp = rng.uniform(0.0, 0.9, (2, n))
+    e = impact.newton_restitution(M, Mp, eps, epsp)
+    ode = reference.integrate_direct_impact(M, Mp, V0, V0p, e)
+    scale = np.abs(V0 - V0p)
+    p1, p1p = _printed_eq7(M, Mp, V0, V0p, eps, epsp)
+    # (b): V0 + V1 − (V0′ + V1′) = ε(V0 − V1) − ε′(V0′ − V1′), evaluated on the integrated outcome
+    b = (V0 + ode.V1 - V0p - ode.V1p) - (eps * (V0 - ode.V1) - epsp * (V0p - ode.V1p))
+    ode0 = reference.integrate_direct_impact(M, Mp, V0, 0.0, impact.newton_restitution(M, Mp, eps, epsp))
+    q1, q1p = _printed_eq8(M, Mp, V0, eps, epsp)
+    return {
+        "eq_b_vs_integration": float(np.max(np.abs(b) / scale)),
+        "eq7_vs_integration": float(max(np.max(np.abs(p1 - ode.V1) / scale), np.max(np.abs(p1p - ode.V1p) / scale))),
+        "eq8_vs_integration": float(max(np.max(np.abs(q1 - ode0.V1) / V0), np.max(np.abs(q1p - ode0.V1p) / V0))),
+    }
+
+
 def run(exp: Experiment) -> Reproduction:
     p: Params = exp.params
     M, Mp = p.striker.mass, p.struck.mass
@@ -112,7 +152,10 @@ def run(exp: Experiment) -> Reproduction:
                 f"V1′ = {float(swapped.V1p):.4f} V0 where Coriolis measured {printed:g} V0, so the swapped pair "
                 f"is not a solution of the data")
 
-    computed = {
+    checks = formula_checks(exp.seed)
+    how = "largest |printed − integrated| / approach speed over 16 random scenes (two-phase contact ODE)"
+    computed = {k: Computed(v, how) for k, v in checks.items()}
+    computed |= {
         "n_equations": Computed(float(fit.identifiability.rank),
                                 f"rank of the Jacobian of eqs (8) in (ε, ε′): singular values "
                                 f"{', '.join(f'{s:.3g}' for s in fit.identifiability.singular_values)}"),

@@ -18,7 +18,7 @@ from ..fitting import FitResult, fit_rebound
 from ..mechanics import impact
 from .base import Computed, FigureSpec, FitRow, Reproduction, fit_rows, layer, modern_rows, read_series, rows_for
 
-QUANTITIES = ("eps", "velocity_ratio", "eps_no_rebound", "eps_series")
+QUANTITIES = ("eq9_limit", "eps", "velocity_ratio", "eps_no_rebound", "eps_series")
 MODERN = ("e_c", "e_c(v)", "e_t")
 G = 9.80665  # only to turn drop heights into speeds; every ratio here is independent of g
 
@@ -105,6 +105,17 @@ def _slips(r: float, printed: float, tol: float) -> list[str]:
     return [f"{k} = {v:.4f}" for k, v in candidates.items() if abs(v - printed) <= tol * abs(printed)]
 
 
+def eq9_limit_check(seed: int, n: int = 64, mass_ratio: float = 1e12) -> float:
+    """Largest |V1(9) − V1(8)| / V0 between eq. (9) as printed and eq. (8) with M′ = 10¹² M, over random
+    (ε, ε′): the paper obtains (9) as that limit, in which ε′ drops out."""
+    rng = np.random.default_rng(seed)
+    V0 = rng.uniform(0.5, 7.0, n)
+    eps, epsp = rng.uniform(0.0, 1.0, (2, n))
+    printed = -(1 - eps) / (1 + eps) * V0  # eq. (9) as printed, transcribed only to be compared
+    limit = impact.direct_impact(1.0, mass_ratio, V0, 0.0, eps, epsp).V1
+    return float(np.max(np.abs(printed - limit) / V0))
+
+
 def run(exp: Experiment) -> Reproduction:
     p: Params = exp.params
     r = _speed_ratio(p, p.value)
@@ -128,6 +139,8 @@ def run(exp: Experiment) -> Reproduction:
     data = _series(p, exp.seed)
     fit: FitResult | None = fit_rebound(data[0], data[1]) if data else None
     computed = {
+        "eq9_limit": Computed(eq9_limit_check(exp.seed), "largest |(9) − (8) at M′ = 10¹² M| / V0 over 64 random "
+                                                           "(ε, ε′)"),
         "eps": Computed(eps, f"inverse of eq. (9) with the {kind} {p.value:.6g}", why_eps),
         "velocity_ratio": Computed(r, "√ of the height ratio (free fall)" if p.quantity == "height_ratio"
                                    else "the measured ratio", why_ratio),
