@@ -82,3 +82,42 @@ def test_a_formula_row_takes_no_value(tmp_path):
     cfg.write_text(text)
     with pytest.raises(InputError, match="is a formula"):
         api.load(str(cfg))
+
+
+def test_user_csv_rebounds_are_fitted(tmp_path):
+    import numpy as np
+
+    from reproductions.mechanics import impact
+
+    rng = np.random.default_rng(5)
+    V0 = rng.uniform(0.5, 5, 30)
+    V1 = impact.infinite_mass_impact(V0, 0.35) * (1 + 0.02 * rng.standard_normal(30))
+    rows = "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in zip(V0, V1, strict=True))
+    (tmp_path / "trials.csv").write_text("V0,V1\n" + rows)
+    text = (api.config_dir() / "coriolis-cushion.yaml").read_text()
+    text = text.replace("synthetic: {n: 24, low: 0.5, high: 7.0, noise: 0.03}", "csv: trials.csv")
+    (tmp_path / "mine.yaml").write_text(text)
+    rep = api.run(api.load(str(tmp_path / "mine.yaml")))
+    fit = rep.fits[1]
+    assert fit.ci95[0] < 0.35 < fit.ci95[1]
+    assert fit.stderr < 0.01
+    assert "trials.csv" in rep.data_note and "SYNTHETIC" not in rep.data_note
+
+
+def test_user_csv_with_two_mass_ratios_separates_eps_and_epsp(tmp_path):
+    from reproductions.mechanics import impact
+
+    lines = ["V0,V1,V1p,M,Mp"]
+    for M, Mp in ((0.6, 0.2), (0.2, 0.4)):
+        for V0 in (1.0, 2.0):
+            r = impact.direct_impact(M, Mp, V0, 0.0, 0.1, 0.25)
+            lines.append(f"{V0},{float(r.V1)!r},{float(r.V1p)!r},{M},{Mp}")
+    (tmp_path / "trials.csv").write_text("\n".join(lines) + "\n")
+    text = (api.config_dir() / "coriolis-pendulum.yaml").read_text()
+    text = text.replace("    sigma: 0.01\n", "    series_csv: trials.csv\n    sigma: 0.01\n")
+    (tmp_path / "mine.yaml").write_text(text)
+    rep = api.run(api.load(str(tmp_path / "mine.yaml")))
+    fits = {f.parameter: f for f in rep.fits}
+    assert fits["ε (cue)"].identifiable and fits["ε (cue)"].value == pytest.approx(0.1, abs=1e-6)
+    assert fits["ε′ (ball)"].identifiable and fits["ε′ (ball)"].value == pytest.approx(0.25, abs=1e-6)
+    assert {r.id: r for r in rep.rows}["n_equations"].computed == 2.0
