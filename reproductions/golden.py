@@ -39,6 +39,10 @@ def flatten(s: dict[str, Any]) -> dict[str, tuple[Any, float, float]]:
         out[f"{key}.ci95"] = (f["ci95"], RTOL_ITERATIVE, ATOL)
         out[f"{key}.identifiable"] = (f["identifiable"], 0.0, 0.0)
         out[f"{key}.family_range"] = (f["family_range"], RTOL_ITERATIVE, ATOL)
+    for j, i in enumerate(s.get("identifiability", [])):
+        out[f"identifiability.{j}.rank"] = (i["rank"], 0.0, 0.0)
+        out[f"identifiability.{j}.null_directions"] = (i["null_directions"], RTOL_ITERATIVE, 1e-9)
+        out[f"identifiability.{j}.family_of_solutions"] = (i["family_of_solutions"], RTOL_ITERATIVE, 1e-9)
     for m in s["modern"]:
         out[f"modern.{m['symbol']}.resal"] = (m["resal"], RTOL_CLOSED_FORM, ATOL)
     out["figures"] = (s["figures"], 0.0, 0.0)

@@ -66,6 +66,7 @@ def summary(rep: Reproduction, prov: dict[str, Any] | None = None) -> dict[str, 
         "data_note": rep.data_note,
         "rows": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(r).items()} for r in rep.rows],
         "fits": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(f).items()} for f in rep.fits],
+        "identifiability": [dict(i) for i in rep.identifiability],
         "modern": [dict(m) for m in rep.modern],
         "figures": _figure_files(rep),
         "notes": list(e.notes),
@@ -121,6 +122,17 @@ def table_md(s: dict[str, Any]) -> str:
     out.append("\n## Fits\n")
     out.append(_md_table(("parameter", "value", "std. error", "95 % interval", "identifiable", "note"),
                          (_fit_cells(f) for f in s["fits"])))
+    for i in s.get("identifiability", []):
+        sv = ", ".join(f"{v:.3g}" for v in i["singular_values"])
+        text = (f"Parameters {', '.join(i['parameters'])}; {i['n_data']} residuals; singular values of the "
+                f"Jacobian {sv}; rank {i['rank']} of {len(i['parameters'])}.")
+        if i["null_directions"]:
+            nd = "; ".join("(" + ", ".join(f"{v:.4g}" for v in d) + ")" for d in i["null_directions"])
+            text += f" Null direction(s) {nd}: moving along them leaves every prediction unchanged."
+        if i["family_of_solutions"]:
+            a, b = (", ".join(f"{v:.4g}" for v in end) for end in i["family_of_solutions"])
+            text += f" Solutions within the bounds: the segment from ({a}) to ({b})."
+        out.append(f"\n## Identifiability ({_md_escape(i['data'])})\n\n{text}\n")
     if s["modern"]:
         out.append("\n## Today's values\n")
         out.append(_md_table(("quantity", "resal", "modern low", "typ", "high", "source", "note"), (

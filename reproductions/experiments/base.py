@@ -9,7 +9,7 @@ from __future__ import annotations
 import csv
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
@@ -95,7 +95,7 @@ class Reproduction:
     figures: tuple[FigureSpec, ...]
     modern: tuple[dict, ...] = ()
     data_note: str = ""
-    extra: dict = field(default_factory=dict)
+    identifiability: tuple[dict, ...] = ()
 
 
 def layer(kind: str, x: Sequence[float] | np.ndarray = (), y: Sequence[float] | np.ndarray = (),
@@ -155,6 +155,23 @@ def fit_rows(fit: FitResult, labels: dict[str, str], method: str, note: str = ""
         out.append(FitRow(terms, comb.value, comb.stderr, comb.ci95, method, True,
                           ("identified combination; " + note).strip("; ")))
     return out
+
+
+def identifiability_report(fit: FitResult, labels: dict[str, str], data: str) -> dict:
+    """The SVD of the fit's Jacobian at the solution, for ``summary.json``: what the data determine."""
+    ident = fit.identifiability
+    return {
+        "data": data,
+        "parameters": [labels.get(n, n) for n in fit.names],
+        "n_data": fit.n_data,
+        "singular_values": list(ident.singular_values),
+        "rank": ident.rank,
+        "condition_number": ident.condition_number,
+        "null_directions": [list(v) for v in ident.null_directions],
+        "identified_combinations": [list(c.coefficients) for c in fit.combinations],
+        "family_of_solutions": None if fit.family is None else [list(fit.family[0]), list(fit.family[1])],
+        "noise": fit.noise,
+    }
 
 
 def modern_rows(symbols: Sequence[str], values: dict[str, tuple[float, str]]) -> tuple[dict, ...]:

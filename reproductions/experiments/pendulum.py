@@ -19,6 +19,7 @@ from .base import (
     FigureSpec,
     Reproduction,
     fit_rows,
+    identifiability_report,
     layer,
     modern_rows,
     read_series,
@@ -179,9 +180,11 @@ def run(exp: Experiment) -> Reproduction:
         "e_tip": (e_data, "Newton's e = (V1′ − V1)/V0 of Coriolis's cue–ball data"),
         "m_ball/m_cue": (Mp / M, "mass ratio of Coriolis's experiment"),
     })
-    return Reproduction(exp, rows_for(exp, computed), tuple(fits), (_figure(p, fit, comb, mu, epsp_given_eps,
-                                                                            eps_given_epsp),), modern,
-                        data_note="" if p.series is None else f"series: {p.series.name}")
+    data = "measured ratios" if p.series is None else f"series: {p.series.name}"
+    figure = _figure(p, fit, comb, mu, epsp_given_eps, eps_given_epsp)
+    return Reproduction(exp, rows_for(exp, computed), tuple(fits), (figure,), modern,
+                        data_note="" if p.series is None else data,
+                        identifiability=(identifiability_report(fit, labels, data),))
 
 
 def _figure(p: Params, fit: FitResult, comb: float, mu: float, paper_epsp: float, premise_eps: float) -> FigureSpec:

@@ -16,7 +16,18 @@ import numpy as np
 from ..config import Experiment, Node
 from ..fitting import FitResult, fit_rebound
 from ..mechanics import impact
-from .base import Computed, FigureSpec, FitRow, Reproduction, fit_rows, layer, modern_rows, read_series, rows_for
+from .base import (
+    Computed,
+    FigureSpec,
+    FitRow,
+    Reproduction,
+    fit_rows,
+    identifiability_report,
+    layer,
+    modern_rows,
+    read_series,
+    rows_for,
+)
 
 QUANTITIES = ("eq9_limit", "eps", "velocity_ratio", "eps_no_rebound", "eps_series")
 MODERN = ("e_c", "e_c(v)", "e_t")
@@ -167,8 +178,9 @@ def run(exp: Experiment) -> Reproduction:
     figures = [_figure_ratio(p, r, eps, exp)]
     if data is not None and fit is not None:
         figures.append(_figure_series(data, fit, r, p))
+    ident = () if fit is None or data is None else (identifiability_report(fit, {"eps": "ε"}, data[2]),)
     return Reproduction(exp, rows_for(exp, computed), tuple(fits), tuple(figures), modern,
-                        data_note="" if data is None else data[2])
+                        data_note="" if data is None else data[2], identifiability=ident)
 
 
 def _printed_eps(exp: Experiment) -> float | None:
