@@ -18,7 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 
-__all__ = ["ReferenceImpact", "integrate_direct_impact"]
+__all__ = ["ReferenceImpact", "ReferencePlane", "integrate_direct_impact", "integrate_flight",
+           "integrate_plane_impact"]
 
 
 @dataclass(frozen=True)
@@ -84,3 +85,71 @@ def integrate_direct_impact(
         (*shape, 3))
     return ReferenceImpact(V1=out[..., 0], V1p=out[..., 1], nfev=out[..., 2].astype(int),
                            method="ODE, two-phase hysteretic contact (DOP853)")
+
+
+@dataclass(frozen=True)
+class ReferencePlane:
+    """Velocities after a sphere–plane impact, integrated in the normal-impulse variable (§III n°8, eqs 4)."""
+
+    chi1: np.ndarray
+    zeta1: np.ndarray
+    p1: np.ndarray
+    slip_stopped_at: np.ndarray  # fraction of the normal impulse at which the slip stopped (nan: never)
+    method: str
+
+
+def _plane_one(chi0: float, zeta0: float, p0: float, R: float, k: float, f: float, nu: float, rtol: float
+               ) -> tuple[float, float, float, float]:
+    end = (1.0 + nu) * abs(zeta0)  # total normal impulse per unit mass: ζ goes from ζ0 to −νζ0
+    v0 = chi0 - p0 * R
+    if v0 == 0.0 or f == 0.0 or end == 0.0:
+        return chi0, -nu * zeta0, p0, float("nan")
+    s = float(np.sign(v0))
+
+    def slide(_pi: float, y: np.ndarray) -> list[float]:  # y = (χ, ζ, pR); eqs (4) with Z dt = M dπ
+        return [-s * f, 1.0, s * k * f]
+
+    def stops(_pi: float, y: np.ndarray) -> float:
+        return s * (y[0] - y[2])
+
+    stops.terminal = True
+    sol = solve_ivp(slide, (0.0, end), [chi0, zeta0, p0 * R], events=stops, rtol=rtol, atol=rtol * abs(zeta0),
+                    method="DOP853")
+    y = sol.y[:, -1] if sol.status == 0 else sol.y_events[0][0]
+    stopped = float("nan") if sol.status == 0 else float(sol.t_events[0][0] / end)
+    if sol.status == 1:  # the slip has stopped: rolling needs no friction, only ζ still changes
+        y = np.array([y[0], zeta0 + end, y[2]])
+    return float(y[0]), float(y[1]), float(y[2] / R), stopped
+
+
+def integrate_plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, R: ArrayLike, k: ArrayLike,
+                           f: ArrayLike, nu: ArrayLike, *, rtol: float = 1e-11) -> ReferencePlane:
+    """Integrate §III's impulse equations (4) scene by scene, stopping the slip when v_x reaches zero."""
+    arrays = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (chi0, zeta0, p0, R, k, f, nu)))
+    flat = [a.ravel() for a in arrays]
+    out = np.array([_plane_one(*(float(a[i]) for a in flat), rtol) for i in range(flat[0].size)])
+    out = out.reshape((*arrays[0].shape, 4))
+    return ReferencePlane(out[..., 0], out[..., 1], out[..., 2], out[..., 3],
+                          "ODE in the normal impulse, slip stopped by an event (DOP853)")
+
+
+def integrate_flight(chi: ArrayLike, zeta: ArrayLike, g: ArrayLike, *, rtol: float = 1e-11
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Range and duration of the flight of the centre under gravity until it is back at its height (§III n°9)."""
+    arrays = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (chi, zeta, g)))
+    flat = [a.ravel() for a in arrays]
+    res = []
+    for c, z, gg in zip(*flat, strict=True):
+        def rhs(_t: float, y: np.ndarray, gg: float = gg) -> list[float]:
+            return [y[2], y[3], 0.0, -gg]
+
+        def lands(_t: float, y: np.ndarray) -> float:
+            return y[1]
+
+        lands.terminal = True
+        lands.direction = -1
+        sol = solve_ivp(rhs, (0.0, 10.0 * z / gg + 1.0), [0.0, 0.0, c, z], events=lands, rtol=rtol,
+                        atol=rtol * 1e-3, method="DOP853", first_step=1e-6 * z / gg)
+        res.append((sol.y_events[0][0][0], sol.t_events[0][0]))
+    out = np.array(res).reshape((*arrays[0].shape, 2))
+    return out[..., 0], out[..., 1]
