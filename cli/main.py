@@ -55,18 +55,18 @@ def _render(s: dict[str, Any]) -> None:
     for r in s["rows"]:
         rel = "—" if r["rel_diff"] is None else f"{r['rel_diff']:+.2%}"
         comp = "—" if r["computed"] is None else f"{r['computed']:.6g}"
-        t.add_row(r["quantity"], r["source"], r["printed_text"], comp, rel,
-                  Text(r["verdict"], style=VERDICT_STYLE[r["verdict"]]), r["note"])
+        t.add_row(Text(r["quantity"]), Text(r["source"]), Text(r["printed_text"]), comp, rel,
+                  Text(r["verdict"], style=VERDICT_STYLE[r["verdict"]]), Text(r["note"]))
     out_console.print(t)
     f = Table(title="fits", title_justify="left")
     for h in ("parameter", "value", "std. error", "95 % interval", "identifiable", "note"):
         f.add_column(h, overflow="fold", max_width=60 if h == "note" else None)
     for x in s["fits"]:
         ci = x["ci95"]
-        f.add_row(x["parameter"], "—" if x["value"] is None else f"{x['value']:.6g}",
+        f.add_row(Text(x["parameter"]), "—" if x["value"] is None else f"{x['value']:.6g}",
                   "—" if x["stderr"] is None else f"{x['stderr']:.3g}",
                   "—" if ci[0] is None else f"[{ci[0]:.4g}, {ci[1]:.4g}]", "yes" if x["identifiable"] else "no",
-                  x["note"])
+                  Text(x["note"]))
     out_console.print(f)
 
 
@@ -152,7 +152,11 @@ def simulate(
     for k, v in result["inputs"].items():
         t.add_row(f"in  {k}", f"{v:.10g}")
     for k, v in result["outputs"].items():
-        t.add_row(f"out {k}", f"{v:.10g}")
+        if isinstance(v, list):
+            text = ", ".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in v)
+        else:
+            text = f"{v:.10g}" if isinstance(v, float) else str(v)
+        t.add_row(f"out {k}", Text(text))
     out_console.print(t)
 
 

@@ -317,7 +317,8 @@ def load_experiment(path: str | Path) -> Experiment:
         raise root.fail(f"'modern' lists {', '.join(unknown)}, which kind '{kind}' cannot compare "
                         f"(expected some of {', '.join(module.MODERN)})")
     params = module.parse(root.child("params"), p.parent)
-    printed = tuple(_printed(n, module.QUANTITIES) for n in root.children("printed"))
+    quantities = module.quantities(params) if hasattr(module, "quantities") else module.QUANTITIES
+    printed = tuple(_printed(n, quantities) for n in root.children("printed"))
     seen: set[str] = set()
     for x in printed:
         if x.id in seen:

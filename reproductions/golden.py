@@ -43,6 +43,9 @@ def flatten(s: dict[str, Any]) -> dict[str, tuple[Any, float, float]]:
         out[f"identifiability.{j}.rank"] = (i["rank"], 0.0, 0.0)
         out[f"identifiability.{j}.null_directions"] = (i["null_directions"], RTOL_ITERATIVE, 1e-9)
         out[f"identifiability.{j}.family_of_solutions"] = (i["family_of_solutions"], RTOL_ITERATIVE, 1e-9)
+    for t in s.get("tables", []):
+        for j, row in enumerate(t["rows"]):
+            out[f"tables.{t['name']}.{j}"] = (row, RTOL_ITERATIVE, 1e-9)
     for m in s["modern"]:
         out[f"modern.{m['symbol']}.resal"] = (m["resal"], RTOL_CLOSED_FORM, ATOL)
     out["figures"] = (s["figures"], 0.0, 0.0)

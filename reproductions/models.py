@@ -10,7 +10,7 @@ from typing import Any
 
 from .config import parse_number
 from .errors import InputError
-from .mechanics import impact
+from .mechanics import impact, plane
 
 __all__ = ["MODELS", "Model", "Param", "simulate"]
 
@@ -23,19 +23,20 @@ class Param:
     lo: float | None = None
     hi: float | None = None
     lo_open: bool = False
+    hi_open: bool = False
 
     def check(self, value: float) -> str | None:
         if not math.isfinite(value):
             return "a finite number"
         if self.lo is not None and (value < self.lo or (self.lo_open and value == self.lo)):
             return self.range_text()
-        if self.hi is not None and value > self.hi:
+        if self.hi is not None and (value > self.hi or (self.hi_open and value == self.hi)):
             return self.range_text()
         return None
 
     def range_text(self) -> str:
         if self.lo is not None and self.hi is not None:
-            return f"a number in {'(' if self.lo_open else '['}{self.lo:g}, {self.hi:g}]"
+            return f"a number in {'(' if self.lo_open else '['}{self.lo:g}, {self.hi:g}{')' if self.hi_open else ']'}"
         if self.lo is not None:
             return f"a number {'>' if self.lo_open else '≥'} {self.lo:g}"
         return "a number"
@@ -46,7 +47,7 @@ class Model:
     name: str
     doc: str
     params: tuple[Param, ...]
-    run: Callable[[dict[str, float]], tuple[str, dict[str, float]]]
+    run: Callable[[dict[str, float]], tuple[str, dict[str, Any]]]
 
 
 def _direct(v: dict[str, float]) -> tuple[str, dict[str, float]]:
@@ -60,7 +61,32 @@ def _wall(v: dict[str, float]) -> tuple[str, dict[str, float]]:
     return "closed form, §I eq. (9)", {"V1": V1, "ratio": float(impact.velocity_ratio_from_eps(v["eps"]))}
 
 
+def _plane(v: dict[str, float]) -> tuple[str, dict[str, Any]]:
+    if v["zeta0"] >= 0:
+        raise InputError(f"--set zeta0={v['zeta0']:g}",
+                         "ζ0 must be negative: the sphere approaches the plane (§III n°8)")
+    r = plane.plane_impact(v["chi0"], v["zeta0"], v["p0"], v["R"], v["k"], v["f"], v["nu"])
+    return r.method, {"chi1": float(r.chi1), "zeta1": float(r.zeta1), "p1": float(r.p1),
+                      "regime": "slides throughout (Résal's eqs (6))" if bool(r.sliding) else
+                      "slip stops, then rolls"}
+
+
+def _ricochet(v: dict[str, float]) -> tuple[str, dict[str, Any]]:
+    n = int(v["n"])
+    if n != v["n"]:
+        raise InputError(f"--set n={v['n']:g}", "n must be a whole number of impacts")
+    r = plane.ricochet(v["a0"], math.radians(v["alpha0"]), v["p0"], v["R"], v["k"], v["f"], v["nu"], v["g"], n)
+    return r.method, {"ranges": [float(x) for x in r.ranges], "times": [float(x) for x in r.times],
+                      "imprints": [float(x) for x in r.imprints],
+                      "sliding": [bool(x) for x in r.sliding]}
+
+
 _EPS = dict(lo=0.0, hi=1.0)
+_NU = dict(lo=0.0, hi=1.0, lo_open=True)
+_BALL = (Param("R", 0.0305, "radius of the ball (m)", lo=0.0, lo_open=True),
+         Param("k", 2.5, "moment of inertia M R²/k (k = 5/2: homogeneous)", lo=0.0, lo_open=True),
+         Param("f", 0.2, "sliding friction on the plane", lo=0.0),
+         Param("nu", 0.8, "yield ν of the normal velocity, ζ1 = −ν ζ0", **_NU))
 MODELS: dict[str, Model] = {
     "direct-impact": Model("direct-impact", "direct impact of M on M′ (§I n°5, eq. 7)", (
         Param("M", 1.0, "mass of the striking body (kg)", lo=0.0, lo_open=True),
@@ -74,6 +100,20 @@ MODELS: dict[str, Model] = {
         Param("V0", 1.0, "normal velocity before the impact (m/s)"),
         Param("eps", 0.29, "Résal's ε of the ball", **_EPS),
     ), _wall),
+    "plane-impact": Model("plane-impact", "sphere striking a fixed plane with friction (§III n°8)", (
+        Param("chi0", 1.0, "tangential velocity of the centre before (m/s)"),
+        Param("zeta0", -1.0, "normal velocity before, negative: approaching (m/s)"),
+        Param("p0", 0.0, "rotation before (rad/s); slip v_x = χ − pR"),
+        *_BALL,
+    ), _plane),
+    "ricochet": Model("ricochet", "ricochets on a horizontal plane (§III n°9)", (
+        Param("a0", 2.0, "speed of the centre arriving at the first impact (m/s)", lo=0.0, lo_open=True),
+        Param("alpha0", 20.0, "its angle below the plane (degrees)", lo=0.0, hi=90.0, lo_open=True, hi_open=True),
+        Param("p0", 0.0, "rotation arriving (rad/s)"),
+        *_BALL,
+        Param("g", 9.81, "gravity (m/s²)", lo=0.0, lo_open=True),
+        Param("n", 12.0, "number of impacts", lo=1.0, hi=1000.0),
+    ), _ricochet),
 }
 
 

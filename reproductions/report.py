@@ -67,6 +67,8 @@ def summary(rep: Reproduction, prov: dict[str, Any] | None = None) -> dict[str, 
         "rows": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(r).items()} for r in rep.rows],
         "fits": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(f).items()} for f in rep.fits],
         "identifiability": [dict(i) for i in rep.identifiability],
+        "tables": [{"name": t.name, "title": t.title, "headers": list(t.headers), "rows": [list(r) for r in t.rows],
+                    "note": t.note} for t in rep.tables],
         "modern": [dict(m) for m in rep.modern],
         "figures": _figure_files(rep),
         "notes": list(e.notes),
@@ -133,6 +135,11 @@ def table_md(s: dict[str, Any]) -> str:
             a, b = (", ".join(f"{v:.4g}" for v in end) for end in i["family_of_solutions"])
             text += f" Solutions within the bounds: the segment from ({a}) to ({b})."
         out.append(f"\n## Identifiability ({_md_escape(i['data'])})\n\n{text}\n")
+    for t in s.get("tables", []):
+        out.append(f"\n## {t['title']}\n")
+        out.append(_md_table(t["headers"], ([_fmt(c) for c in r] for r in t["rows"])))
+        if t["note"]:
+            out.append(f"\n{t['note']}\n")
     if s["modern"]:
         out.append("\n## Today's values\n")
         out.append(_md_table(("quantity", "resal", "modern low", "typ", "high", "source", "note"), (
@@ -190,6 +197,13 @@ def _draw(spec: FigureSpec, folder: Path) -> None:
             ax.axvspan(ly.x[0], ly.x[1], color=ly.color, alpha=0.15, label=ly.label, lw=0)
         elif ly.kind == "hband":
             ax.axhspan(ly.y[0], ly.y[1], color=ly.color, alpha=0.15, label=ly.label, lw=0)
+        elif ly.kind == "errorbar":
+            ax.errorbar(ly.x, ly.y, yerr=ly.y2, fmt=ly.marker, color=ly.color, label=ly.label, capsize=3)
+        elif ly.kind == "heatmap":
+            dx, dy = (ly.x[1] - ly.x[0]) / 2, (ly.y[1] - ly.y[0]) / 2  # a regular grid: drawn as one image
+            img = ax.imshow(ly.z, origin="lower", aspect="auto", cmap="viridis", interpolation="nearest",
+                            extent=(ly.x[0] - dx, ly.x[-1] + dx, ly.y[0] - dy, ly.y[-1] + dy))
+            fig.colorbar(img, ax=ax, label=ly.label)
         else:
             raise ValueError(f"unknown layer kind {ly.kind!r}")
     fig.suptitle(spec.title)
@@ -201,7 +215,8 @@ def _draw(spec: FigureSpec, folder: Path) -> None:
     if spec.ylim:
         ax.set_ylim(*spec.ylim)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
+    if any(ly.label and ly.kind != "heatmap" for ly in spec.layers):
+        ax.legend(fontsize=8, loc="best")
     fig.savefig(folder / f"{spec.name}.png", dpi=120, metadata={"Software": None})
     fig.savefig(folder / f"{spec.name}.pdf", metadata={"Creator": None, "Producer": None, "CreationDate": None})
     plt.close(fig)

@@ -303,7 +303,7 @@ def test_value_that_pyyaml_cannot_construct(tmp_path: Path, bad: str) -> None:
 def test_unknown_experiment_id(tmp_path: Path) -> None:
     out = tmp_path / "results"
     assert_bad(invoke("reproduce", "nope", "--out", out), "experiment 'nope'", "unknown experiment id", *KNOWN_IDS)
-    assert len(KNOWN_IDS) == 3
+    assert len(KNOWN_IDS) >= 3
     assert not out.exists()
 
 

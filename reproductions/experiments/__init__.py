@@ -5,6 +5,6 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from . import pendulum, rebound
+from . import pendulum, rebound, ricochet
 
-KINDS: dict[str, ModuleType] = {"pendulum": pendulum, "rebound": rebound}
+KINDS: dict[str, ModuleType] = {"pendulum": pendulum, "rebound": rebound, "ricochet": ricochet}

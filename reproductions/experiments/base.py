@@ -63,12 +63,14 @@ class FitRow:
 
 @dataclass(frozen=True)
 class Layer:
-    """One thing drawn: 'line', 'points', 'errorbar' (yerr), 'band' (y to y2), 'hband'/'vband' (span)."""
+    """One thing drawn: 'line', 'points', 'errorbar' (y ± y2), 'band' (y to y2), 'hband'/'vband' (span),
+    'heatmap' (z[i][j] at x[j], y[i]; label names the colour bar)."""
 
     kind: str
     x: tuple[float, ...] = ()
     y: tuple[float, ...] = ()
     y2: tuple[float, ...] = ()
+    z: tuple[tuple[float, ...], ...] = ()
     label: str = ""
     color: str = "C0"
     marker: str = "o"
@@ -96,13 +98,26 @@ class Reproduction:
     modern: tuple[dict, ...] = ()
     data_note: str = ""
     identifiability: tuple[dict, ...] = ()
+    tables: tuple[TableSpec, ...] = ()
 
 
 def layer(kind: str, x: Sequence[float] | np.ndarray = (), y: Sequence[float] | np.ndarray = (),
-          y2: Sequence[float] | np.ndarray = (), **kw: str) -> Layer:
+          y2: Sequence[float] | np.ndarray = (), z: np.ndarray | None = None, **kw: str) -> Layer:
     """A ``Layer`` from arrays (stored as tuples of floats, so specs stay hashable and serialisable)."""
+    zz = () if z is None else tuple(tuple(map(float, row)) for row in np.asarray(z))
     return Layer(kind, tuple(map(float, np.ravel(x))), tuple(map(float, np.ravel(y))),
-                 tuple(map(float, np.ravel(y2))), **kw)
+                 tuple(map(float, np.ravel(y2))), zz, **kw)
+
+
+@dataclass(frozen=True)
+class TableSpec:
+    """A further table of numbers (e.g. an estimator comparison): stored in summary.json, rendered in table.md."""
+
+    name: str
+    title: str
+    headers: tuple[str, ...]
+    rows: tuple[tuple[float | str | None, ...], ...]
+    note: str = ""
 
 
 def compare(p: Printed, c: Computed) -> Row:
@@ -133,10 +148,14 @@ def rows_for(exp: Experiment, computed: dict[str, Computed]) -> tuple[Row, ...]:
     return tuple(compare(p, computed[p.computed]) for p in exp.printed)
 
 
-def fit_rows(fit: FitResult, labels: dict[str, str], method: str, note: str = "") -> list[FitRow]:
-    """Fit results as table rows: identifiable parameters, then the family and the identified combinations."""
+def fit_rows(fit: FitResult, labels: dict[str, str], method: str, note: str = "",
+             only: Sequence[str] | None = None) -> list[FitRow]:
+    """Fit results as table rows: every parameter (or those named in ``only``, then without combinations),
+    identifiable or with the range of its family, then the identified combinations."""
     out: list[FitRow] = []
     for est in fit.estimates:
+        if only is not None and est.name not in only:
+            continue
         name = labels.get(est.name, est.name)
         if est.identifiable:
             n = note if fit.noise != "none" else (note + " " if note else "") + \
@@ -148,7 +167,7 @@ def fit_rows(fit: FitResult, labels: dict[str, str], method: str, note: str = ""
             out.append(FitRow(name, None, None, (None, None), method, False,
                               f"not identifiable: {span} (rank {fit.identifiability.rank} of {len(fit.names)})",
                               rng))
-    for comb in fit.combinations:
+    for comb in fit.combinations if only is None else ():
         terms = " + ".join(
             (f"{c:.6g}·" if not math.isclose(c, 1.0, rel_tol=1e-6) else "") + labels.get(n, n)
             for c, n in zip(comb.coefficients, fit.names, strict=True) if c != 0.0)

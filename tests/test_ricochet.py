@@ -1,0 +1,113 @@
+"""§III experiment: verdicts of the printed formulas and values, the ν fits, f's identifiability, bad input."""
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from cli.main import app
+from reproductions import api
+from reproductions.errors import InputError
+from reproductions.experiments import ricochet as rc
+from reproductions.mechanics import plane
+
+
+@pytest.fixture(scope="module")
+def rep():
+    return api.run(api.load("roze-ricochets"))
+
+
+def test_printed_formulas_and_values_get_their_verdicts(rep):
+    v = {r.id: r for r in rep.rows}
+    for rid in ("eq6", "eq7", "eq8", "eq9", "angles", "footnote"):
+        assert v[rid].verdict == "reproduced", rid
+    for rid in ("eq6_beyond", "eq8_beyond", "range"):
+        assert v[rid].verdict == "differs" and v[rid].note, rid
+    assert v["range"].computed == pytest.approx(0.5, rel=1e-9)  # the printed range is half the true one
+    for rid in ("nu_smoked_marble", "nu_rough_marble", "nu_smoked_paper", "nu_fir_plank"):
+        assert v[rid].verdict == "not-checkable"
+
+
+def test_nu_is_recovered_from_positions_and_times_and_f_only_with_times(rep):
+    exp = api.load("roze-ricochets")
+    fits = {f.parameter: f for f in rep.fits}
+    for s in exp.params.surfaces:
+        true = s.synthetic.nu
+        for name in (f"ν [{s.id}]", f"ν [{s.id}, acoustic]"):
+            f = fits[name]
+            assert abs(f.value - true) < 4 * f.stderr, name
+        assert not fits[f"f [{s.id}], positions only"].identifiable
+        joint = fits[f"f [{s.id}], positions + instants"]
+        assert joint.identifiable and abs(joint.value - s.synthetic.f) < 5 * joint.stderr
+    ranks = {i["data"]: i["rank"] for i in rep.identifiability}
+    assert ranks["imprint positions, physical parameters, smoked-marble"] == 3
+    assert ranks["imprint positions and instants, smoked-marble"] == 4
+
+
+def test_estimator_comparison_table(rep):
+    (t,) = rep.tables
+    rows = [r for r in t.rows if r[1] == "flight times"]
+    assert len(rows) == 4 and all(abs(r[4]) < 3 * r[5] / np.sqrt(r[7]) + 1e-4 for r in rows)  # times: no bias
+
+
+def _user_config(tmp_path, csv_text):
+    text = (api.config_dir() / "roze-ricochets.yaml").read_text()
+    start = text.index("  surfaces:")
+    end = text.index("printed:")
+    text = text[:start] + "  surfaces:\n    - {id: mine, name: my slab, csv: imprints.csv}\n" + text[end:]
+    keep = text.index("  - id: nu_smoked_marble")
+    stop = text.index("  - id: footnote")
+    text = text[:keep] + ("  - {id: nu_mine, computed: nu.mine, quantity: ν of my slab, source: mine, value: 0.80, "
+                          "text: '0,80'}\n") + text[stop:]
+    (tmp_path / "imprints.csv").write_text(csv_text)
+    cfg = tmp_path / "mine.yaml"
+    cfg.write_text(text)
+    return cfg
+
+
+def test_a_users_imprint_series_is_fitted_and_checked(tmp_path):
+    r = plane.ricochet(2.0, 0.4, 0.0, 0.0305, 2.5, 0.2, 0.8, 9.81, 9)
+    x = r.imprints[:10] + 0.3 + np.random.default_rng(0).normal(0, 2e-4, 10)
+    cfg = _user_config(tmp_path, "x\n" + "".join(f"{float(v)!r}\n" for v in x))
+    out = api.run(api.load(str(cfg)))
+    row = {r.id: r for r in out.rows}["nu_mine"]
+    assert row.computed == pytest.approx(0.8, abs=0.01) and row.verdict == "reproduced"
+
+
+@pytest.mark.parametrize("csv_text, message", [
+    ("x\n0\n0.1\n0.18\n0.17\n0.3\n0.35\n", "must increase; imprint 4"),
+    ("x\n0\n0.1\n0.18\n", "at least 5 imprints"),
+    ("x\n0\n0.1\nnan\n0.2\n0.3\n", "imprints.csv:4: column 'x': expected a finite number"),
+])
+def test_bad_imprint_series(tmp_path, csv_text, message):
+    cfg = _user_config(tmp_path, csv_text)
+    with pytest.raises(InputError, match=message.replace("(", r"\(")):
+        api.run(api.load(str(cfg)))
+    res = CliRunner().invoke(app, ["reproduce", str(cfg), "--out", str(tmp_path / "res")])
+    assert res.exit_code == 2 and "Traceback" not in res.output
+    assert not (tmp_path / "res" / "roze-ricochets").exists()
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ("nu: 0.80, f: 0.15", "nu: 0, f: 0.15", "'params.surfaces[0].synthetic.nu' must be a yield ν in (0, 1]"),
+    ("nu: 0.80, f: 0.15", "nu: 1.2, f: 0.15", "in (0, 1], got 1.2"),
+    ("nu: 0.80, f: 0.15", "nu: 0.80, f: -0.1", "'params.surfaces[0].synthetic.f' must be a friction coefficient ≥ 0"),
+    ("imprints: 12", "imprints: 3", "must be a number of imprints ≥ 5"),
+])
+def test_bad_ricochet_config(tmp_path, old, new, message):
+    text = (api.config_dir() / "roze-ricochets.yaml").read_text().replace(old, new, 1)
+    cfg = tmp_path / "bad.yaml"
+    cfg.write_text(text)
+    with pytest.raises(InputError, match=message.replace("(", r"\(").replace("[", r"\[").replace("]", r"\]")) as e:
+        api.load(str(cfg))
+    assert e.value.where == f"{cfg}:{text[: text.index(new)].count(chr(10)) + 1}"
+
+
+def test_position_fit_finds_the_global_minimum_past_the_kink():
+    """The slip stops within the series: a local start would settle on the wrong switch; the grid does not."""
+    exp = api.load("roze-ricochets")
+    p = exp.params
+    for seed in range(5):
+        for s in p.surfaces:
+            x, _ = rc.simulate_series(p, s.synthetic, np.random.default_rng(seed))
+            fit = rc.fit_positions(p, x)
+            assert abs(fit.point[0] - s.synthetic.nu) < 0.03, (s.id, seed)
