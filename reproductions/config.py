@@ -176,6 +176,20 @@ class Node:
             raise self.fail(f"'{self._name(key)}' must be true or false, got '{n.value}'", n)
         return value
 
+    def number_list(self, key: str, what: str = "numbers") -> tuple[float, ...]:
+        n = self._get(key, f"a list of {what}")
+        if not isinstance(n, yaml.SequenceNode) or not n.value:
+            raise self.fail(f"'{self._name(key)}' must be a non-empty list of {what}", n)
+        out = []
+        for item in n.value:
+            value = _construct(item, self.file, self._name(key)) if isinstance(item, yaml.ScalarNode) else None
+            parsed = parse_number(value)
+            if parsed is None or not math.isfinite(parsed[0]):
+                raise self.fail(f"'{self._name(key)}' must be a list of {what}, got '{getattr(item, 'value', '')}'",
+                                item)
+            out.append(parsed[0])
+        return tuple(out)
+
     def string_list(self, key: str, default: tuple[str, ...] = ()) -> tuple[str, ...]:
         if not self.has(key):
             return default

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from . import pendulum, rebound, ricochet
+from . import cloth, pendulum, rebound, ricochet
 
-KINDS: dict[str, ModuleType] = {"pendulum": pendulum, "rebound": rebound, "ricochet": ricochet}
+KINDS: dict[str, ModuleType] = {
+    "cloth": cloth, "pendulum": pendulum, "rebound": rebound, "ricochet": ricochet,
+}

@@ -12,14 +12,15 @@ checks the closed form against the equations of motion.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 
-__all__ = ["ReferenceImpact", "ReferencePlane", "integrate_direct_impact", "integrate_flight",
-           "integrate_plane_impact"]
+__all__ = ["ReferenceImpact", "ReferencePlane", "integrate_cloth", "integrate_cue_impulse",
+           "integrate_direct_impact", "integrate_flight", "integrate_plane_impact"]
 
 
 @dataclass(frozen=True)
@@ -153,3 +154,68 @@ def integrate_flight(chi: ArrayLike, zeta: ArrayLike, g: ArrayLike, *, rtol: flo
         res.append((sol.y_events[0][0][0], sol.t_events[0][0]))
     out = np.array(res).reshape((*arrays[0].shape, 2))
     return out[..., 0], out[..., 1]
+
+
+def integrate_cloth(vx: float, vy: float, wx: float, wy: float, R: float, k: float, f: float, g: float,
+                    t_end: float, *, rtol: float = 1e-11) -> tuple[object, float]:
+    """Integrate §II's eqs (2) (friction opposite the current slip) until the slip vanishes, then roll.
+
+    Returns a callable ``state(t) -> (x, y, vx, vy, wx, wy)`` valid on [0, t_end] and the time at which the
+    slip vanished (nan if it did not by t_end).
+    """
+    I_over_M = R * R / k
+
+    def rhs(_t: float, y: np.ndarray) -> list[float]:
+        ux, uy = y[2] - y[5] * R, y[3] + y[4] * R
+        u = math.hypot(ux, uy)
+        ex, ey = ux / u, uy / u
+        return [y[2], y[3], -f * g * ex, -f * g * ey, -f * g * R * ey / I_over_M, f * g * R * ex / I_over_M]
+
+    u0x, u0y = vx - wy * R, vy + wx * R
+    u0 = math.hypot(u0x, u0y)
+
+    def stops(_t: float, y: np.ndarray) -> float:  # the slip along its initial direction: crosses 0 cleanly
+        return ((y[2] - y[5] * R) * u0x + (y[3] + y[4] * R) * u0y) / u0
+
+    stops.terminal = True
+    y0 = [0.0, 0.0, vx, vy, wx, wy]
+    if u0 == 0.0:
+        t1, sol = 0.0, None
+    else:
+        sol = solve_ivp(rhs, (0.0, t_end), y0, events=stops, rtol=rtol, atol=1e-14, dense_output=True,
+                        method="DOP853")
+        t1 = float(sol.t_events[0][0]) if sol.t_events[0].size else float("nan")
+    end = sol.sol(t1) if sol is not None and t1 == t1 else np.array(y0)
+
+    def state(t: float) -> np.ndarray:
+        if sol is not None and (t1 != t1 or t <= t1):
+            return sol.sol(t)
+        s = np.array(end, dtype=float)  # rolling without resistance: uniform motion, spins constant
+        dt = t - (t1 if t1 == t1 else 0.0)
+        s[0] += s[2] * dt
+        s[1] += s[3] * dt
+        return s
+
+    return state, t1
+
+
+def integrate_cue_impulse(i: float, a: float, b: float, c: float, R: float, k: float, f: float, M: float,
+                          P_end: float, *, moment_a_term: bool = True, rtol: float = 1e-10) -> np.ndarray:
+    """Integrate §VII's eqs (3) in the cue impulse P from a ball at rest, with the cloth friction
+    f sin i dP opposite the *current* slip (regularised near zero slip, so a held contact is found, not
+    assumed). Returns (χ, η, n, p, q) at P_end. Nothing of eqs (5)–(7) is used."""
+    si, ci = math.sin(i), math.cos(i)
+    tau = np.array([-b * si, c * ci + (a * si if moment_a_term else 0.0), -b * ci])
+    inertia = M * R * R / k
+    scale = P_end / M
+    delta = 1e-9 * scale
+
+    def rhs(_P: float, y: np.ndarray) -> np.ndarray:
+        ux, uy = y[0] - y[3] * R, y[1] + y[2] * R
+        norm = math.sqrt(ux * ux + uy * uy + delta * delta)
+        jx, jy = f * si * ux / norm, f * si * uy / norm
+        return np.array([(ci - jx) / M, -jy / M, (tau[0] - R * jy) / inertia, (tau[1] + R * jx) / inertia,
+                         tau[2] / inertia])
+
+    sol = solve_ivp(rhs, (0.0, P_end), np.zeros(5), method="LSODA", rtol=rtol, atol=1e-12 * scale)
+    return sol.y[:, -1]

@@ -1,0 +1,97 @@
+"""§II n°7 of Résal (1883): a ball sliding on the cloth with friction f, then rolling.
+
+Frame of the paper: xOy the cloth, Oz upward; χ, η the velocity of the centre, n = ω_x and p = ω_y the
+rotations about the horizontal axes (q = ω_z plays no part). The contact point slips at (eq. 1)
+v_x = χ − pR, v_y = η + nR. With the friction f M g opposite the slip û and the moment of inertia M R²/k,
+eqs (2) give dv/dt = −(1 + k) f g û: the slip keeps its direction and its speed falls linearly, so the
+centre describes Euler's parabola (eqs 3–5) until the slip vanishes at t1 = v0/((1 + k) f g), and then
+rolls along the tangent. After rolling starts the paper stops; here an optional rolling resistance f_r
+decelerates the centre at f_r g until it stops (f_r = 0: uniform motion, the paper's case).
+
+Coriolis's theorem (footnote of n°7): the point of the vertical through C at height R/k above C keeps a
+constant velocity; a horizontal stroke at that height gives immediate rolling.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+__all__ = ["ClothMotion", "centre_of_oscillation", "slide", "state_at"]
+
+
+@dataclass(frozen=True)
+class ClothMotion:
+    """Onset of rolling for each scene: time, place (from the start) and velocity of the centre."""
+
+    t_roll: np.ndarray
+    x_roll: np.ndarray
+    y_roll: np.ndarray
+    vx_roll: np.ndarray
+    vy_roll: np.ndarray
+    slip0: np.ndarray  # initial slip speed v0
+    method: str
+
+
+def _slip(vx: np.ndarray, vy: np.ndarray, wx: np.ndarray, wy: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, ...]:
+    ux, uy = vx - wy * R, vy + wx * R  # eq. (1)
+    u = np.hypot(ux, uy)
+    safe = np.where(u > 0, u, 1.0)
+    return ux / safe, uy / safe, u
+
+
+def slide(vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: ArrayLike, R: ArrayLike, k: ArrayLike = 2.5,
+          f: ArrayLike = 0.25, g: ArrayLike = 9.81) -> ClothMotion:
+    """Time, place and velocity at which rolling starts (§II n°7: t1 = v0/(fg(1 + k)) and the point of the
+    parabola reached then). A ball already rolling (v0 = 0) skips the sliding phase: t1 = 0."""
+    vx, vy, wx, wy, R, k, f, g = np.broadcast_arrays(
+        *(np.asarray(a, dtype=float) for a in (vx, vy, wx, wy, R, k, f, g)))
+    ex, ey, u = _slip(vx, vy, wx, wy, R)
+    t1 = u / ((1 + k) * f * g)
+    x1 = vx * t1 - 0.5 * f * g * ex * t1**2
+    y1 = vy * t1 - 0.5 * f * g * ey * t1**2
+    return ClothMotion(t1, x1, y1, vx - f * g * ex * t1, vy - f * g * ey * t1, u,
+                       "closed form, §II eqs (3)-(4)")
+
+
+def state_at(t: ArrayLike, vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: ArrayLike, R: ArrayLike,
+             k: ArrayLike = 2.5, f: ArrayLike = 0.25, g: ArrayLike = 9.81, f_roll: ArrayLike = 0.0
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Position (x, y) and velocity (vx, vy) of the centre at times t (from the start, at the origin).
+
+    Scenes broadcast over the leading axes of the parameters; ``t`` broadcasts against them, so a trailing
+    axis of times gives whole trajectories. Sliding: Euler's parabola; rolling: the tangent, decelerated
+    by f_roll·g until the ball stops (an addition the paper leaves aside).
+    """
+    t = np.asarray(t, dtype=float)
+    m = slide(vx, vy, wx, wy, R, k, f, g)
+    params = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (vx, vy, wx, wy, R, k, f, g, f_roll)))
+    vx, vy, wx, wy, R, k, f, g, fr = (a[..., None] if t.ndim > a.ndim else a for a in params)
+    t1, x1, y1, wx1, wy1 = (a[..., None] if t.ndim > a.ndim else a for a in
+                            (m.t_roll, m.x_roll, m.y_roll, m.vx_roll, m.vy_roll))
+    ex, ey, _ = _slip(vx, vy, wx, wy, R)
+    ts = np.minimum(t, t1)
+    xs = vx * ts - 0.5 * f * g * ex * ts**2
+    ys = vy * ts - 0.5 * f * g * ey * ts**2
+    vxs, vys = vx - f * g * ex * ts, vy - f * g * ey * ts
+    # rolling: speed s1 falls at f_roll g; it stops at s1/(f_roll g)
+    s1 = np.hypot(wx1, wy1)
+    dx, dy = np.where(s1 > 0, wx1 / np.where(s1 > 0, s1, 1), 0.0), np.where(s1 > 0, wy1 / np.where(s1 > 0, s1, 1), 0.0)
+    tr = np.maximum(t - t1, 0.0)
+    stop = np.where(fr > 0, s1 / np.where(fr > 0, fr * g, 1.0), np.inf)
+    tr = np.minimum(tr, stop)
+    dist = s1 * tr - 0.5 * fr * g * tr**2
+    speed = np.where(t - t1 >= stop, 0.0, s1 - fr * g * tr)
+    rolling = t > t1
+    x = np.where(rolling, x1 + dx * dist, xs)
+    y = np.where(rolling, y1 + dy * dist, ys)
+    return x, y, np.where(rolling, dx * speed, vxs), np.where(rolling, dy * speed, vys)
+
+
+def centre_of_oscillation(R: ArrayLike, k: ArrayLike = 2.5) -> np.ndarray:
+    """Height above the centre of the point whose velocity stays constant while sliding (footnote of n°7):
+    the point of the vertical at height h moves at (χ + hp, η − hn), whose derivative is −fg û (1 − kh/R),
+    zero for h = R/k; a horizontal stroke at that height gives v = Rω, immediate rolling."""
+    return np.asarray(R, dtype=float) / np.asarray(k, dtype=float)

@@ -1,0 +1,125 @@
+"""§VII n°14 of Résal (1883): the stroke of a cue inclined to the cloth, hitting the ball off centre.
+
+Frame of the paper (§II): Cx horizontal in the vertical plane of the cue, Cz upward, Cy completing it; the
+cue (mass M′, speed V′ along its axis) points along d = (cos i, 0, −sin i) and strikes the ball (mass M,
+radius R, moment of inertia M R²/k, at rest) at the point (a, b, c) of its surface, a < 0. Premises of
+n°14: the force F of the cue lies along its axis (no percussion on the hands, no sliding of the tip: the
+axis lies inside the tip's friction cone, else *fausse queue*); the ball does not leave the cloth, which
+takes the pressure F sin i and opposes the slip with f F sin i.
+
+Derivation in the cue impulse P = ∫F dt (eqs 2–3). The moment of F about C is r × d P =
+(−b sin i, c cos i + a sin i, −b cos i) P. The slip on the cloth, u = (χ − pR, η + nR), grows from zero as
+du = (dP/M)[D − (1 + k) j], with D = (cos i − (k/R)(c cos i + a sin i), −(k/R) b sin i) and j the cloth
+friction per unit P. It keeps the direction of D (Résal's constant γ, eq. 5) and j = f sin i D̂ while
+|D| > (1 + k) f sin i; otherwise the cloth holds the contact (j = D/(1 + k), no slip). Everything after the
+stroke is linear in P (eq. 7). P itself follows from Résal's law (6) written at the end of the stroke and at
+the greatest compression (ε = ε′ = 1), the friction terms being the same (eqs 9, 9′, 10): ω1 = 2Aω/(A +
+ε(A − 1) + ε′), with A − 1 the ball's vis viva over M′ω1², and ω the cue speed lost at the greatest
+compression, when the cue and the contact point have the same normal velocity (eqs 11–12).
+
+Where this departs from the printed text (``method="resal"`` keeps Résal's choices, ``"exact"`` does not):
+1. Résal's eq. (2) gives the moment about Cy as F c cos i, without the term F a sin i, and his eq. (5) for γ
+   follows from that; ``exact`` keeps the term.
+2. Eq. (12) ends the compression when the cue and the contact point have the same velocity along the
+   *normal*, while the impulse acts along the *axis*. For an off-centre stroke this makes the cue give the
+   ball more vis viva than it loses: with i = 0, ε = 0 and an offset s = √(b² + c²)/R, A ω = V′0 (1 + μ(1 +
+   k s²))/(1 + μ) > V′0, and the friction term of (9′), 2V′0 − 2Aω, turns negative. ``exact`` ends the
+   compression when the relative velocity along the line of the impulse vanishes, which gives the ball's
+   effective mass along the axis, ω = V′0/(1 + M′ d·K·d) (K: the ball's velocity at the contact per unit
+   impulse, cloth friction included); energy is then never gained (tests).
+3. Eq. (11) prints cos φ = −(a cos i + c sin i)/R; with the cue pointing down, as the pressure F sin i on the
+   cloth requires, it is −(a cos i − c sin i)/R, used by both paths.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+__all__ = ["CueStroke", "contact_point", "cue_stroke", "miscue_angle", "stroke_per_impulse"]
+
+METHODS = ("auto", "exact", "resal")
+
+
+@dataclass(frozen=True)
+class CueStroke:
+    """State of the ball just after the stroke, the cue's speed after, and the stroke's geometry."""
+
+    chi1: np.ndarray  # centre velocity along Cx
+    eta1: np.ndarray  # along Cy
+    n1: np.ndarray  # rotation about Cx (ω_x)
+    p1: np.ndarray  # about Cy (ω_y)
+    q1: np.ndarray  # about Cz (ω_z)
+    V1p: np.ndarray  # cue speed after the stroke
+    omega1: np.ndarray  # cue speed lost, eq. (6)
+    omega: np.ndarray  # cue speed lost at the greatest compression, eq. (12)
+    A: np.ndarray  # eq. (8)
+    gamma: np.ndarray  # direction of the slip on the cloth, eq. (5)
+    cos_phi: np.ndarray  # angle of the cue axis with the normal at the contact, eq. (11)
+    slides_on_cloth: np.ndarray
+    method: str
+
+
+def contact_point(b: ArrayLike, c: ArrayLike, R: ArrayLike) -> np.ndarray:
+    """a of the contact point (a, b, c) on the back of the ball: a = −√(R² − b² − c²)."""
+    b, c, R = (np.asarray(x, dtype=float) for x in (b, c, R))
+    return -np.sqrt(np.maximum(R * R - b * b - c * c, 0.0))
+
+
+def miscue_angle(f_tip: ArrayLike) -> np.ndarray:
+    """The friction angle of the tip, atan f_tip (footnote of n°14): beyond it, *fausse queue*."""
+    return np.arctan(np.asarray(f_tip, dtype=float))
+
+
+def stroke_per_impulse(i: ArrayLike, b: ArrayLike, c: ArrayLike, R: ArrayLike, k: ArrayLike, f: ArrayLike,
+                       M: ArrayLike, method: str = "exact") -> dict[str, np.ndarray]:
+    """Velocity, rotation and slip of the ball per unit cue impulse P (eqs 3, 5, 7), arrays over the batch."""
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    i, b, c, R, k, f, M = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (i, b, c, R, k, f, M)))
+    a = contact_point(b, c, R)
+    si, ci = np.sin(i), np.cos(i)
+    tau = np.stack([-b * si, c * ci + (0.0 if method == "resal" else a * si), -b * ci])
+    D = np.stack([ci - (k / R) * tau[1], (k / R) * tau[0]])
+    Dn = np.hypot(D[0], D[1])
+    Dhat = D / np.where(Dn > 0, Dn, 1.0)
+    fric = f * si
+    slides = Dn > (1 + k) * fric
+    j = np.where(slides, fric, Dn / (1 + k)) * Dhat  # the cloth's friction impulse per unit P
+    v = np.stack([ci - j[0], -j[1]]) / M
+    w = (k / (M * R * R)) * (tau + R * np.stack([-j[1], j[0], np.zeros_like(j[0])]))
+    u = (D - (1 + k) * j) / M
+    r = np.stack([a, b, c])
+    d = np.stack([ci, np.zeros_like(ci), -si])
+    v3 = np.stack([v[0], v[1], np.zeros_like(v[0])])
+    contact = v3 + np.cross(w, r, axis=0)  # velocity of the ball's point of contact with the cue, per unit P
+    return {"a": a, "v": v, "w": w, "u": u, "gamma": np.arctan2(D[1], D[0]), "slides": slides,
+            "cos_phi": -(a * ci - c * si) / R, "d_K_d": (contact * d).sum(axis=0)}
+
+
+def cue_stroke(M: ArrayLike, Mp: ArrayLike, V0p: ArrayLike, i: ArrayLike, b: ArrayLike, c: ArrayLike,
+               R: ArrayLike, k: ArrayLike = 2.5, f: ArrayLike = 0.25, eps: ArrayLike = 0.0,
+               epsp: ArrayLike = 4 / 15, method: str = "auto") -> CueStroke:
+    """The stroke of §VII n°14 (module docstring); ``auto`` takes the exact moment (it costs the same)."""
+    path = "exact" if method == "auto" else method
+    per = stroke_per_impulse(i, b, c, R, k, f, M, path)
+    M, Mp, V0p, R, k, eps, epsp = np.broadcast_arrays(*(np.asarray(x, dtype=float)
+                                                         for x in (M, Mp, V0p, R, k, eps, epsp)))
+    v, w = per["v"], per["w"]
+    Q = M * (v[0] ** 2 + v[1] ** 2) + (M * R * R / k) * (w**2).sum(axis=0)  # ball vis viva per P²
+    A = 1.0 + Mp * Q
+    if path == "resal":  # eq. (12): equal velocities along the normal at the greatest compression
+        n_hat_dot_v = (per["a"] * v[0] + np.asarray(b, dtype=float) * v[1]) / R
+        omega = V0p * per["cos_phi"] / (per["cos_phi"] - Mp * n_hat_dot_v)
+    else:  # equal velocities along the line of the impulse (the cue axis d)
+        omega = V0p / (1.0 + Mp * per["d_K_d"])
+    omega1 = 2 * A * omega / (A + eps * (A - 1) + epsp)  # eq. (10)
+    P = Mp * omega1
+    label = ("Résal's eqs (2)-(12) as printed (moment about Cy without a sin i; compression ended along the "
+             "normal)" if path == "resal" else
+             "closed form, §VII eqs (2)-(10) with the full moment of F, compression ended along the cue axis")
+    return CueStroke(chi1=P * v[0], eta1=P * v[1], n1=P * w[0], p1=P * w[1], q1=P * w[2], V1p=V0p - omega1,
+                     omega1=omega1, omega=omega, A=A, gamma=per["gamma"], cos_phi=per["cos_phi"],
+                     slides_on_cloth=per["slides"], method=label)
