@@ -124,6 +124,7 @@ def simulate(
     set_: Annotated[list[str] | None, typer.Option("--set", help="name=value, SI units, paper's notation")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="print one JSON object")] = False,
     list_: Annotated[bool, typer.Option("--list", help="list the models and their parameters")] = False,
+    method: Annotated[str, typer.Option(help="solution path: auto, exact, or resal (the paper's)")] = "auto",
 ) -> None:
     """Run one scene of a mechanics model and print its outputs."""
     from reproductions.models import MODELS
@@ -140,7 +141,7 @@ def simulate(
     try:
         if model is None:
             raise InputError("arguments", "name a model (see resal simulate --list)")
-        result = run_scene(model, list(set_ or []))
+        result = run_scene(model, list(set_ or []), method)
     except InputError as err:
         _fail(err)
     if as_json:

@@ -10,7 +10,7 @@ from typing import Any
 
 from .config import parse_number
 from .errors import InputError
-from .mechanics import impact, plane
+from .mechanics import cloth, cue, impact, plane
 
 __all__ = ["MODELS", "Model", "Param", "simulate"]
 
@@ -47,7 +47,7 @@ class Model:
     name: str
     doc: str
     params: tuple[Param, ...]
-    run: Callable[[dict[str, float]], tuple[str, dict[str, Any]]]
+    run: Callable[..., tuple[str, dict[str, Any]]]
 
 
 def _direct(v: dict[str, float]) -> tuple[str, dict[str, float]]:
@@ -61,11 +61,11 @@ def _wall(v: dict[str, float]) -> tuple[str, dict[str, float]]:
     return "closed form, §I eq. (9)", {"V1": V1, "ratio": float(impact.velocity_ratio_from_eps(v["eps"]))}
 
 
-def _plane(v: dict[str, float]) -> tuple[str, dict[str, Any]]:
+def _plane(v: dict[str, float], method: str = "auto") -> tuple[str, dict[str, Any]]:
     if v["zeta0"] >= 0:
         raise InputError(f"--set zeta0={v['zeta0']:g}",
                          "ζ0 must be negative: the sphere approaches the plane (§III n°8)")
-    r = plane.plane_impact(v["chi0"], v["zeta0"], v["p0"], v["R"], v["k"], v["f"], v["nu"])
+    r = plane.plane_impact(v["chi0"], v["zeta0"], v["p0"], v["R"], v["k"], v["f"], v["nu"], method)
     return r.method, {"chi1": float(r.chi1), "zeta1": float(r.zeta1), "p1": float(r.p1),
                       "regime": "slides throughout (Résal's eqs (6))" if bool(r.sliding) else
                       "slip stops, then rolls"}
@@ -79,6 +79,32 @@ def _ricochet(v: dict[str, float]) -> tuple[str, dict[str, Any]]:
     return r.method, {"ranges": [float(x) for x in r.ranges], "times": [float(x) for x in r.times],
                       "imprints": [float(x) for x in r.imprints],
                       "sliding": [bool(x) for x in r.sliding]}
+
+
+def _cloth(v: dict[str, float]) -> tuple[str, dict[str, Any]]:
+    m = cloth.slide(v["vx"], v["vy"], v["wx"], v["wy"], v["R"], v["k"], v["f"], v["g"])
+    out: dict[str, Any] = {"t_roll": float(m.t_roll), "x_roll": float(m.x_roll), "y_roll": float(m.y_roll),
+                           "vx_roll": float(m.vx_roll), "vy_roll": float(m.vy_roll)}
+    if float(m.slip0) == 0.0:
+        out["note"] = "the ball already rolls (no slip): no sliding phase, the trivial answer"
+    return m.method, out
+
+
+def _cue(v: dict[str, float], method: str = "auto") -> tuple[str, dict[str, Any]]:
+    b, c, R = v["b"], v["c"], v["R"]
+    if b * b + c * c >= R * R:
+        raise InputError(f"--set b={b:g} --set c={c:g}", f"the contact point must lie on the ball: b² + c² < R² "
+                                                           f"(R = {R:g})")
+    i = math.radians(v["i"])
+    s = cue.cue_stroke(v["M"], v["Mp"], v["V0p"], i, b, c, R, v["k"], v["f"], v["eps"], v["epsp"], method)
+    if float(s.cos_phi) <= 0:
+        raise InputError(f"--set c={c:g} --set i={v['i']:g}", "the cue cannot reach that point of the ball "
+                                                               "(its axis would meet the ball elsewhere first)")
+    phi = math.degrees(math.acos(min(1.0, float(s.cos_phi))))
+    return s.method, {"chi1": float(s.chi1), "eta1": float(s.eta1), "n1": float(s.n1), "p1": float(s.p1),
+                      "q1": float(s.q1), "V1p": float(s.V1p), "gamma_deg": math.degrees(float(s.gamma)),
+                      "phi_deg": phi, "slides_on_cloth": bool(s.slides_on_cloth),
+                      "miscue_if_tip_friction_below": math.tan(math.radians(phi))}
 
 
 _EPS = dict(lo=0.0, hi=1.0)
@@ -114,10 +140,33 @@ MODELS: dict[str, Model] = {
         Param("g", 9.81, "gravity (m/s²)", lo=0.0, lo_open=True),
         Param("n", 12.0, "number of impacts", lo=1.0, hi=1000.0),
     ), _ricochet),
+    "cloth-slide": Model("cloth-slide", "ball sliding on the cloth until it rolls (§II n°7)", (
+        Param("vx", 2.0, "velocity of the centre along x (m/s)"),
+        Param("vy", 0.0, "along y (m/s)"),
+        Param("wx", 0.0, "rotation about x, n (rad/s); slip v_y = η + nR"),
+        Param("wy", 0.0, "rotation about y, p (rad/s); slip v_x = χ − pR"),
+        Param("R", 0.0305, "radius (m)", lo=0.0, lo_open=True),
+        Param("k", 2.5, "moment of inertia M R²/k", lo=0.0, lo_open=True),
+        Param("f", 0.25, "friction on the cloth (Coriolis: 0.25)", lo=0.0, lo_open=True),
+        Param("g", 9.81, "gravity (m/s²)", lo=0.0, lo_open=True),
+    ), _cloth),
+    "cue-stroke": Model("cue-stroke", "stroke of an inclined cue (§VII n°14); --method resal: as printed", (
+        Param("M", 0.21, "mass of the ball (kg)", lo=0.0, lo_open=True),
+        Param("Mp", 0.63, "mass of the cue (kg); μ = Mp/M", lo=0.0, lo_open=True),
+        Param("V0p", 3.0, "speed of the cue before the stroke (m/s)", lo=0.0, lo_open=True),
+        Param("i", 0.0, "inclination of the cue on the cloth (degrees)", lo=0.0, hi=90.0, hi_open=True),
+        Param("b", 0.0, "side offset of the contact point (m)"),
+        Param("c", 0.0, "height of the contact point above the centre (m)"),
+        Param("R", 0.0305, "radius (m)", lo=0.0, lo_open=True),
+        Param("k", 2.5, "moment of inertia M R²/k", lo=0.0, lo_open=True),
+        Param("f", 0.25, "friction of the ball on the cloth", lo=0.0),
+        Param("eps", 0.0, "Résal's ε of the ball", **_EPS),
+        Param("epsp", 0.8, "Résal's ε′ of the cue (from n°5's data with ε = 0; the paper writes 0,27)", **_EPS),
+    ), _cue),
 }
 
 
-def simulate(model: str, assignments: list[str]) -> dict[str, Any]:
+def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[str, Any]:
     """Run one scene; ``assignments`` are ``name=value`` strings. Raises ``InputError`` on bad input."""
     if model not in MODELS:
         raise InputError(f"model '{model}'", f"unknown model (expected one of: {', '.join(MODELS)})")
@@ -140,5 +189,9 @@ def simulate(model: str, assignments: list[str]) -> dict[str, Any]:
         if problem:
             raise InputError(where, f"'{name}' must be {problem}, got {text}")
         values[name] = parsed[0]
-    method, outputs = m.run(values)
-    return {"model": model, "method": method, "inputs": values, "outputs": outputs}
+    if method != "auto" and model not in ("cue-stroke", "plane-impact"):
+        raise InputError(f"--method {method}", f"{model} has a single solution path (use --method auto)")
+    if method not in ("auto", "exact", "resal"):
+        raise InputError(f"--method {method}", "expected auto, exact or resal")
+    label, outputs = m.run(values, method) if method != "auto" else m.run(values)
+    return {"model": model, "method": label, "inputs": values, "outputs": outputs}

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from . import cloth, pendulum, rebound, ricochet
+from . import cloth, cue, pendulum, rebound, ricochet
 
 KINDS: dict[str, ModuleType] = {
-    "cloth": cloth, "pendulum": pendulum, "rebound": rebound, "ricochet": ricochet,
+    "cloth": cloth, "cue": cue, "pendulum": pendulum, "rebound": rebound, "ricochet": ricochet,
 }

@@ -61,15 +61,16 @@ def state_at(t: ArrayLike, vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: Arra
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Position (x, y) and velocity (vx, vy) of the centre at times t (from the start, at the origin).
 
-    Scenes broadcast over the leading axes of the parameters; ``t`` broadcasts against them, so a trailing
-    axis of times gives whole trajectories. Sliding: Euler's parabola; rolling: the tangent, decelerated
-    by f_roll·g until the ball stops (an addition the paper leaves aside).
+    The parameters broadcast into a batch of scenes; the times form trailing axes: the result has the
+    shape batch + t.shape (a 1-D t gives one trajectory per scene). Sliding: Euler's parabola; rolling: the
+    tangent, decelerated by f_roll·g until the ball stops (an addition the paper leaves aside).
     """
     t = np.asarray(t, dtype=float)
     m = slide(vx, vy, wx, wy, R, k, f, g)
     params = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (vx, vy, wx, wy, R, k, f, g, f_roll)))
-    vx, vy, wx, wy, R, k, f, g, fr = (a[..., None] if t.ndim > a.ndim else a for a in params)
-    t1, x1, y1, wx1, wy1 = (a[..., None] if t.ndim > a.ndim else a for a in
+    extra = (None,) * t.ndim
+    vx, vy, wx, wy, R, k, f, g, fr = (a[(..., *extra)] for a in params)
+    t1, x1, y1, wx1, wy1 = (np.broadcast_to(a, params[0].shape)[(..., *extra)] for a in
                             (m.t_roll, m.x_roll, m.y_roll, m.vx_roll, m.vy_roll))
     ex, ey, _ = _slip(vx, vy, wx, wy, R)
     ts = np.minimum(t, t1)
