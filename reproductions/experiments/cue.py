@@ -230,6 +230,12 @@ def _figure_region(p: Params, epsp: float) -> FigureSpec:
         if neg.size:
             first.append((math.degrees(incl[neg[0]]), h))
     layers = [layer("heatmap", np.degrees(incl), heights, z=final, label="final velocity along Ox / V′0")]
+    phi_max = float(cue.miscue_angle(max(p.tip_friction)))
+    ok = np.arccos(np.clip(np.asarray(s.cos_phi), -1, 1)) <= phi_max  # inside the tip's friction cone
+    edges = [(math.degrees(incl[np.nonzero(row)[0][-1]]), h) for row, h in zip(ok, heights, strict=True) if row.any()]
+    if edges:
+        layers.append(layer("line", [x for x, _ in edges], [y for _, y in edges], color="C1", style=":",
+                            label=f"fausse queue beyond (right of) this line, tip friction {max(p.tip_friction):g}"))
     if first:
         layers.append(layer("line", [x for x, _ in first], [y for _, y in first], label="χ1 = 0 (first of eqs 7)",
                             color="w", style="--"))
