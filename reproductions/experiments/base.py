@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..config import Experiment, Printed
+from ..config import Experiment, Node, Printed
 from ..errors import InputError
 from ..fitting import FitResult
 
@@ -191,6 +191,17 @@ def identifiability_report(fit: FitResult, labels: dict[str, str], data: str) ->
         "family_of_solutions": None if fit.family is None else [list(fit.family[0]), list(fit.family[1])],
         "noise": fit.noise,
     }
+
+
+def read_ball(node: Node, with_mass: bool = False) -> tuple[float, ...]:
+    """The ``ball`` section shared by the kinds: (R, k), or (R, k, M) with ``with_mass``."""
+    ball = node.child("ball", "a mapping with R, k" + (", M" if with_mass else ""))
+    out = [ball.number("R", "a radius in m", lo=0.0, lo_open=True),
+           ball.number("k", "k of the moment of inertia M R²/k", lo=0.0, lo_open=True)]
+    if with_mass:
+        out.append(ball.number("M", "a mass in kg", lo=0.0, lo_open=True))
+    ball.done()
+    return tuple(out)
 
 
 def modern_rows(symbols: Sequence[str], values: dict[str, tuple[float, str]]) -> tuple[dict, ...]:

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..config import Experiment, Node
 from ..mechanics import cloth, reference
-from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, rows_for
+from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
 
 QUANTITIES = ("slip_direction", "eq4_motion", "eq5_as_printed", "t_roll", "x_roll", "y_roll_as_printed",
               "tangent_after", "footnote_point", "coriolis_theorem", "oscillation_height")
@@ -31,10 +31,7 @@ class Params:
 
 
 def parse(node: Node, base: Path) -> Params:
-    ball = node.child("ball", "a mapping with R and k")
-    R = ball.number("R", "a radius in m", lo=0.0, lo_open=True)
-    k = ball.number("k", "k of the moment of inertia M R²/k", lo=0.0, lo_open=True)
-    ball.done()
+    R, k = read_ball(node)
     f = node.number("f", "a friction coefficient", lo=0.0, lo_open=True)
     g = node.number("g", "gravity in m/s²", lo=0.0, lo_open=True)
     f_roll = node.number("f_roll", "a rolling-resistance coefficient", lo=0.0, default=0.0)

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..config import Experiment, Node
 from ..mechanics import cloth, cue, impact, reference
-from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, rows_for
+from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
 
 QUANTITIES = ("eq5_full_moment", "eq5_own_moment", "eq7_own_moment", "eq7_n1_as_printed", "energy_resal",
               "central_stroke", "friction_angle_high", "friction_angle_low", "epsp_cue", "criterion_as_printed",
@@ -42,11 +42,7 @@ class Params:
 
 
 def parse(node: Node, base: Path) -> Params:
-    ball = node.child("ball", "a mapping with R, k, M")
-    R = ball.number("R", "a radius in m", lo=0.0, lo_open=True)
-    k = ball.number("k", "k of the moment of inertia M R²/k", lo=0.0, lo_open=True)
-    M = ball.number("M", "a mass in kg", lo=0.0, lo_open=True)
-    ball.done()
+    R, k, M = read_ball(node, with_mass=True)
     c = node.child("cue", "a mapping with M and V0")
     Mp = c.number("M", "a mass in kg", lo=0.0, lo_open=True)
     V0p = c.number("V0", "a speed in m/s", lo=0.0, lo_open=True)

@@ -28,6 +28,7 @@ from .base import (
     fit_rows,
     identifiability_report,
     layer,
+    read_ball,
     read_series,
     rows_for,
 )
@@ -92,10 +93,7 @@ def _synthetic(n: Node) -> Synthetic:
 
 
 def parse(node: Node, base: Path) -> Params:
-    ball = node.child("ball", "a mapping with R and k")
-    R = ball.number("R", "a radius in m", lo=0.0, lo_open=True)
-    k = ball.number("k", "k of the moment of inertia M R²/k", lo=0.0, lo_open=True)
-    ball.done()
+    R, k = read_ball(node)
     g = node.number("g", "gravity in m/s²", lo=0.0, lo_open=True)
     p0_fit = node.number("p0_fit", "a spin in rad/s", default=0.0)
     surfaces = []
