@@ -10,7 +10,7 @@ from typing import Any
 
 from .config import parse_number
 from .errors import InputError
-from .mechanics import cloth, cue, impact, plane
+from .mechanics import cloth, cue, cushion, impact, plane
 
 __all__ = ["MODELS", "Model", "Param", "simulate"]
 
@@ -107,6 +107,15 @@ def _cue(v: dict[str, float], method: str = "auto") -> tuple[str, dict[str, Any]
                       "miscue_if_tip_friction_below": math.tan(math.radians(phi))}
 
 
+def _cushion(v: dict[str, float], method: str = "auto") -> tuple[str, dict[str, Any]]:
+    if v["zeta0"] >= 0:
+        raise InputError(f"--set zeta0={v['zeta0']:g}", "ζ0 must be negative: the ball approaches the cushion")
+    c = cushion.cushion_impact(v["chi0"], v["zeta0"], v["p0"], v["n0"], v["R"], v["k"], v["j"], v["eps"], method)
+    return c.method, {"chi1": float(c.chi1), "zeta1": float(c.zeta1), "p1": float(c.p1), "n1": float(c.n1),
+                      "rebound_deg": math.degrees(math.atan2(float(c.chi1), float(c.zeta1))),
+                      "regime": "slip stops during the impact" if bool(c.slip_stops) else "slides throughout"}
+
+
 _EPS = dict(lo=0.0, hi=1.0)
 _NU = dict(lo=0.0, hi=1.0, lo_open=True)
 _BALL = (Param("R", 0.0305, "radius of the ball (m)", lo=0.0, lo_open=True),
@@ -140,6 +149,17 @@ MODELS: dict[str, Model] = {
         Param("g", 9.81, "gravity (m/s²)", lo=0.0, lo_open=True),
         Param("n", 12.0, "number of impacts", lo=1.0, hi=1000.0),
     ), _ricochet),
+    "cushion-impact": Model("cushion-impact", "ball against a cushion, friction and side spin (§IV n°11); "
+                            "--method exact|resal|resal-corrected|ode", (
+        Param("chi0", 1.0, "velocity along the cushion (m/s)"),
+        Param("zeta0", -1.0, "normal velocity, negative: approaching (m/s)"),
+        Param("p0", 0.0, "side spin about the vertical (rad/s); slip φ = χ − pR"),
+        Param("n0", -32.8, "rotation about the cushion's direction (rad/s); rolling: ζ0/R"),
+        Param("R", 0.0305, "radius (m)", lo=0.0, lo_open=True),
+        Param("k", 2.5, "moment of inertia M R²/k", lo=0.0, lo_open=True),
+        Param("j", 0.20, "ball-cushion friction (Coriolis: 0.20)", lo=0.0),
+        Param("eps", 0.29, "Résal's ε on the cushion (n°5: 0.29)", **_EPS),
+    ), _cushion),
     "cloth-slide": Model("cloth-slide", "ball sliding on the cloth until it rolls (§II n°7)", (
         Param("vx", 2.0, "velocity of the centre along x (m/s)"),
         Param("vy", 0.0, "along y (m/s)"),
@@ -189,9 +209,10 @@ def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[s
         if problem:
             raise InputError(where, f"'{name}' must be {problem}, got {text}")
         values[name] = parsed[0]
-    if method != "auto" and model not in ("cue-stroke", "plane-impact"):
+    if method != "auto" and model not in ("cue-stroke", "plane-impact", "cushion-impact"):
         raise InputError(f"--method {method}", f"{model} has a single solution path (use --method auto)")
-    if method not in ("auto", "exact", "resal"):
-        raise InputError(f"--method {method}", "expected auto, exact or resal")
+    allowed = cushion.METHODS if model == "cushion-impact" else ("auto", "exact", "resal")
+    if method not in allowed:
+        raise InputError(f"--method {method}", f"expected one of {', '.join(allowed)}")
     label, outputs = m.run(values, method) if method != "auto" else m.run(values)
     return {"model": model, "method": label, "inputs": values, "outputs": outputs}

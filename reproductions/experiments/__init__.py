@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from . import cloth, cue, pendulum, rebound, ricochet
+from . import cloth, cue, cushion, pendulum, rebound, ricochet
 
 KINDS: dict[str, ModuleType] = {
-    "cloth": cloth, "cue": cue, "pendulum": pendulum, "rebound": rebound, "ricochet": ricochet,
+    "cloth": cloth, "cue": cue, "cushion": cushion, "pendulum": pendulum, "rebound": rebound, "ricochet": ricochet,
 }
