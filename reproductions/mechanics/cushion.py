@@ -33,7 +33,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.special import hyp2f1
+
+from .slip import slip_decay
 
 __all__ = ["METHODS", "CushionImpact", "cushion_impact", "nu_from_eps"]
 
@@ -56,35 +57,9 @@ def nu_from_eps(eps: ArrayLike) -> np.ndarray:
     return (1 - eps) / (1 + eps)
 
 
-def _H(U: np.ndarray, phi0: np.ndarray, psi0: np.ndarray, k: np.ndarray) -> np.ndarray:
-    """∫_0^U u^(k−1) √(φ0² u² + ψ0²) du, for ψ0 > 0, φ0 ≥ 0 (module docstring)."""
-    z = -((phi0 * U / psi0) ** 2)
-    return psi0 * U**k / k * hyp2f1(-0.5, k / 2, k / 2 + 1, z)
-
-
 def _exact(phi0: np.ndarray, psi0: np.ndarray, k: np.ndarray, budget: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Slips (|φ1|, |ψ1|) after the impact from |φ0|, |ψ0| and budget = j(1 + ν)a (≥ 0), vectorised."""
-    phi1 = np.zeros_like(phi0)
-    psi1 = np.zeros_like(psi0)
-    planar = psi0 == 0
-    phi1[planar] = np.maximum(phi0[planar] - (1 + k[planar]) * budget[planar], 0.0)
-    vertical = (phi0 == 0) & ~planar
-    psi1[vertical] = np.maximum(psi0[vertical] - k[vertical] * budget[vertical], 0.0)
-    gen = ~planar & ~vertical
-    if np.any(gen):
-        f0, s0, kk, bb = phi0[gen], psi0[gen], k[gen], budget[gen]
-        total = _H(np.ones_like(f0), f0, s0, kk)
-        stops = bb >= total
-        target = total - bb
-        lo, hi = np.zeros_like(f0), np.ones_like(f0)
-        for _ in range(60):  # H is increasing in U: bisection to double precision
-            mid = 0.5 * (lo + hi)
-            below = _H(mid, f0, s0, kk) < target
-            lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
-        U = np.where(stops, 0.0, 0.5 * (lo + hi))
-        phi1[gen] = f0 * U ** (1 + kk)
-        psi1[gen] = s0 * U**kk
-    return phi1, psi1
+    """Slips (|φ1|, |ψ1|) after the impact, budget = j(1 + ν)a: ``slip.slip_decay`` with α = 1 + k, β = k."""
+    return slip_decay(phi0, psi0, 1 + k, k, budget)
 
 
 def _resal(phi0: np.ndarray, psi0: np.ndarray, k: np.ndarray, budget: np.ndarray,
