@@ -10,7 +10,7 @@ from typing import Any
 
 from .config import parse_number
 from .errors import InputError
-from .mechanics import cloth, cue, cushion, impact, plane
+from .mechanics import cloth, cue, cushion, impact, plane, spheres
 
 __all__ = ["MODELS", "Model", "Param", "simulate"]
 
@@ -116,6 +116,25 @@ def _cushion(v: dict[str, float], method: str = "auto") -> tuple[str, dict[str, 
                       "regime": "slip stops during the impact" if bool(c.slip_stops) else "slides throughout"}
 
 
+def _ball_ball(v: dict[str, float], method: str = "auto") -> tuple[str, dict[str, Any]]:
+    R, Rp, d = v["R"], v["Rp"], v["d"]
+    if abs(d - (R + Rp)) > 1e-9 * (R + Rp):
+        raise InputError(f"--set d={d:g}", f"the balls must touch: the distance between centres must be R + R′ = "
+                                           f"{R + Rp:g} m")
+    cut = math.radians(v["cut"])
+    V = v["V"]
+    vel = [V * math.cos(cut), V * math.sin(cut), 0.0]
+    w = [-vel[1] / R * v["roll"], vel[0] / R * v["roll"], v["side"]]
+    on_cloth = v["cloth"] != 0
+    s = spheres.two_spheres(v["M"], v["Mp"], R, Rp, v["k"], v["k"], vel, w, [0.0] * 3, [0.0] * 3, v["f"], v["eps"],
+                            v["eps"], on_cloth=on_cloth, method=method)
+    v1, v1p = s.v1.tolist(), s.v1p.tolist()
+    return s.method, {"v1": v1, "w1": s.w1.tolist(), "v1p": v1p, "w1p": s.w1p.tolist(),
+                      "object_ball_angle_deg": math.degrees(math.atan2(v1p[1], v1p[0])),
+                      "cue_ball_angle_deg": math.degrees(math.atan2(v1[1], v1[0])),
+                      "regime": "slip stops during the impact" if bool(s.slip_stops) else "slides throughout"}
+
+
 _EPS = dict(lo=0.0, hi=1.0)
 _NU = dict(lo=0.0, hi=1.0, lo_open=True)
 _BALL = (Param("R", 0.0305, "radius of the ball (m)", lo=0.0, lo_open=True),
@@ -160,6 +179,23 @@ MODELS: dict[str, Model] = {
         Param("j", 0.20, "ball-cushion friction (Coriolis: 0.20)", lo=0.0),
         Param("eps", 0.29, "Résal's ε on the cushion (n°5: 0.29)", **_EPS),
     ), _cushion),
+    "ball-ball": Model("ball-ball", "a ball cutting a ball at rest, with friction (§V free, §VI on the cloth); "
+                       "--method exact|resal|ode", (
+        Param("V", 2.0, "speed of the striking ball (m/s)", lo=0.0, lo_open=True),
+        Param("cut", 30.0, "cut angle: its velocity against the line of centres (degrees)", lo=0.0, hi=90.0,
+              hi_open=True),
+        Param("roll", 1.0, "1: rolling on the cloth, 0: stunned (no rotation)"),
+        Param("side", 0.0, "side spin about the vertical (rad/s)"),
+        Param("M", 0.21, "mass of the striking ball (kg)", lo=0.0, lo_open=True),
+        Param("Mp", 0.21, "mass of the ball at rest (kg)", lo=0.0, lo_open=True),
+        Param("R", 0.0305, "radius of the striking ball (m)", lo=0.0, lo_open=True),
+        Param("Rp", 0.0305, "radius of the ball at rest (m)", lo=0.0, lo_open=True),
+        Param("d", 0.061, "distance between the centres at the impact (m)", lo=0.0, lo_open=True),
+        Param("k", 2.5, "moment of inertia M R²/k of both", lo=0.0, lo_open=True),
+        Param("f", 0.03, "ball-ball friction (Coriolis: below 0.03)", lo=0.0),
+        Param("eps", 0.026, "Résal's ε = ε′ of the balls", **_EPS),
+        Param("cloth", 1.0, "1: balls on the cloth (§VI), 0: free spheres (§V)", lo=0.0, hi=1.0),
+    ), _ball_ball),
     "cloth-slide": Model("cloth-slide", "ball sliding on the cloth until it rolls (§II n°7)", (
         Param("vx", 2.0, "velocity of the centre along x (m/s)"),
         Param("vy", 0.0, "along y (m/s)"),
@@ -209,9 +245,9 @@ def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[s
         if problem:
             raise InputError(where, f"'{name}' must be {problem}, got {text}")
         values[name] = parsed[0]
-    if method != "auto" and model not in ("cue-stroke", "plane-impact", "cushion-impact"):
+    if method != "auto" and model not in ("cue-stroke", "plane-impact", "cushion-impact", "ball-ball"):
         raise InputError(f"--method {method}", f"{model} has a single solution path (use --method auto)")
-    allowed = cushion.METHODS if model == "cushion-impact" else ("auto", "exact", "resal")
+    allowed = {"cushion-impact": cushion.METHODS, "ball-ball": spheres.METHODS}.get(model, ("auto", "exact", "resal"))
     if method not in allowed:
         raise InputError(f"--method {method}", f"expected one of {', '.join(allowed)}")
     label, outputs = m.run(values, method) if method != "auto" else m.run(values)

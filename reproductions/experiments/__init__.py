@@ -5,8 +5,9 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from . import cloth, cue, cushion, pendulum, rebound, ricochet
+from . import ballball, cloth, cue, cushion, pendulum, rebound, ricochet
 
 KINDS: dict[str, ModuleType] = {
     "cloth": cloth, "cue": cue, "cushion": cushion, "pendulum": pendulum, "rebound": rebound, "ricochet": ricochet,
+    "spheres": ballball,
 }

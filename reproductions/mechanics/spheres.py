@@ -1,0 +1,174 @@
+"""§V n°12 and §VI n°13 of Résal (1883): the impact of two spheres with friction f, free or resting on the
+cloth.
+
+Frame of the paper: Ox along the line of centres, from C towards C′; M strikes M′ with normal impulse
+ξ = ∫X dt = M ω1 (ω1 = χ0 − χ1, eq. 4). Vectors here are (x, y, z) arrays on the last axis: velocities v,
+v′ and rotations w, w′ of the centres; for §VI, Oz is vertical and the balls cannot leave the cloth. The slip
+of M on M′ at the contact is s = (η − η′ + Rq + R′q′, ζ − ζ′ − Rp − R′p′) (eq. 1), q = w_z, p = w_y.
+
+A tangential impulse T (on M′; −T on M) changes the slip by −(c_y T_y, c_z T_z) with
+c = (1 + k)/M + (1 + k′)/M′ for free balls (both components: the slip keeps its direction, as Résal
+proves), and c_y = (1 + k)/M + (1 + k′)/M′, c_z = k/M + k′/M′ on the cloth, where the vertical translation
+is blocked (the direction then turns during the impact, eqs 7–9 of n°13). Under friction the components
+decay as in ``slip.slip_decay`` with α = M c_y, β = M c_z and τ = f ξ/M; the slip may stop.
+
+Normal impulse, from Résal's law (6) of §I with the friction work 2J·w, w the slip at the greatest
+compression (when χ = χ′, ω = (χ0 − χ0′)/(1 + M/M′)): writing λ = |T|/ξ,
+    ω1 S_ε(λ) = 2(χ0 − χ0′) + 2λ|s0| − 2λ w,
+    S_ε(λ) = [1 + λ²(1 + k)](1 + ε) + (M/M′)[1 + λ²(1 + k′)](1 + ε′).
+While the balls slide throughout (λ = f, w = |s0| − f c M ω) this is exactly Résal's eq. (8) (his
+elimination of w between (6) and (7)); when the slip stops during the restitution (λ = |s0|/(c M ω1),
+w = |s0| − f c M ω, or w = 0 if it stopped before the greatest compression), it is a quadratic in ω1.
+That is the ``exact`` path for free balls. On the cloth the slip turns, T is not along s0, and the same
+law is applied with λ = |T|/ξ from the exact tangential solution, iterated to a fixed point.
+
+``resal``: §V eqs (5) and (8) (sliding assumed throughout) for free balls; §VI eqs (11)–(15) on the cloth
+(first order in f: constant slip direction, ω1 = 2ω/(1 + ε)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .slip import slip_decay
+
+__all__ = ["METHODS", "SpheresImpact", "contact_slip", "two_spheres"]
+
+METHODS = ("auto", "exact", "resal", "ode")
+
+
+@dataclass(frozen=True)
+class SpheresImpact:
+    v1: np.ndarray
+    w1: np.ndarray
+    v1p: np.ndarray
+    w1p: np.ndarray
+    omega1: np.ndarray  # χ0 − χ1
+    T: np.ndarray  # tangential impulse on M′ (y, z components)
+    slip_stops: np.ndarray
+    method: str
+
+
+def contact_slip(v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, R: np.ndarray,
+                 Rp: np.ndarray) -> np.ndarray:
+    """Slip of M on M′ at the contact, eq. (1) of n°12, as (y, z) on the last axis."""
+    sy = v[..., 1] - vp[..., 1] + R * w[..., 2] + Rp * wp[..., 2]
+    sz = v[..., 2] - vp[..., 2] - R * w[..., 1] - Rp * wp[..., 1]
+    return np.stack([sy, sz], axis=-1)
+
+
+def _apply(M: np.ndarray, Mp: np.ndarray, R: np.ndarray, Rp: np.ndarray, k: np.ndarray, kp: np.ndarray,
+           v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, xi: np.ndarray, T: np.ndarray,
+           on_cloth: bool) -> tuple[np.ndarray, ...]:
+    """Velocities after the normal impulse ξ and the tangential impulse T (on M′), eqs (2), (2′)."""
+    T3 = np.concatenate([np.zeros_like(T[..., :1]), T], axis=-1)
+    ex = np.zeros_like(v)
+    ex[..., 0] = 1.0
+    dv = -(xi[..., None] * ex + T3) / M[..., None]
+    dvp = (xi[..., None] * ex + T3) / Mp[..., None]
+    if on_cloth:  # the cloth takes the vertical impulses
+        dv[..., 2] = 0.0
+        dvp[..., 2] = 0.0
+    dw = (k / (M * R))[..., None] * np.cross(ex, -T3)
+    dwp = (kp / (Mp * Rp))[..., None] * np.cross(-ex, T3)
+    return v + dv, w + dw, vp + dvp, wp + dwp
+
+
+def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: ArrayLike, kp: ArrayLike,
+                v: ArrayLike, w: ArrayLike, vp: ArrayLike, wp: ArrayLike, f: ArrayLike, eps: ArrayLike,
+                epsp: ArrayLike, on_cloth: bool = False, method: str = "auto") -> SpheresImpact:
+    """The impact of §V (free balls) or §VI (``on_cloth``) by the chosen path (module docstring); v, w, vp,
+    wp have the vector on the last axis; the other inputs broadcast over the batch. M must approach M′."""
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    v, w, vp, wp = (np.asarray(x, dtype=float) for x in (v, w, vp, wp))
+    batch = np.broadcast_shapes(v.shape[:-1], w.shape[:-1], vp.shape[:-1], wp.shape[:-1],
+                                *(np.shape(x) for x in (M, Mp, R, Rp, k, kp, f, eps, epsp)))
+    v, w, vp, wp = (np.broadcast_to(x, (*batch, 3)) for x in (v, w, vp, wp))
+    M, Mp, R, Rp, k, kp, f, eps, epsp = (np.broadcast_to(np.asarray(x, dtype=float), batch)
+                                         for x in (M, Mp, R, Rp, k, kp, f, eps, epsp))
+    mu = M / Mp
+    approach = v[..., 0] - vp[..., 0]
+    omega = approach / (1 + mu)  # speed lost by M at the greatest compression
+    s0 = contact_slip(v, w, vp, wp, R, Rp)
+    s0n = np.hypot(s0[..., 0], s0[..., 1])
+    cy = (1 + k) / M + (1 + kp) / Mp
+    cz = (k / M + kp / Mp) if on_cloth else cy
+
+    def S_eps(lam: np.ndarray) -> np.ndarray:
+        return (1 + lam**2 * (1 + k)) * (1 + eps) + mu * (1 + lam**2 * (1 + kp)) * (1 + epsp)
+
+    if method == "resal":
+        if on_cloth:  # §VI (11)-(15): first order in f
+            omega1 = 2 * omega * (1 + mu) / ((1 + eps) + mu * (1 + epsp))
+        else:  # §V (8): sliding throughout
+            S = 1 + f**2 * (1 + k) + mu * (1 + f**2 * (1 + kp))
+            omega1 = 2 * omega * S / S_eps(f)
+        xi = M * omega1
+        unit = s0 / np.where(s0n > 0, s0n, 1.0)[..., None]
+        T = (f * xi)[..., None] * unit
+        stops = np.zeros(batch, dtype=bool)
+        label = ("Résal's §VI eqs (11)-(15), first order in f" if on_cloth
+                 else "Résal's §V eqs (5), (8), sliding assumed throughout")
+    else:
+        w_c = np.maximum(s0n - f * cy * M * omega, 0.0) if not on_cloth else None
+        lam = f.copy()
+        for _ in range(1 if not on_cloth else 6):
+            if on_cloth:  # slip at the greatest compression, from the exact tangential solution
+                a_, b_ = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega)
+                w_c = np.hypot(a_, b_)
+            omega1 = (2 * approach + 2 * lam * s0n - 2 * lam * w_c) / S_eps(lam)
+            if not on_cloth:
+                stick = f * cy * M * omega1 > s0n  # the slip stops during the restitution
+                # quadratic α ω1² − 2Δ ω1 + β = 0 with λ = |s0|/(c M ω1)
+                alpha = (1 + eps) + mu * (1 + epsp)
+                beta = (s0n / (cy * M)) ** 2 * ((1 + k) * (1 + eps) + mu * (1 + kp) * (1 + epsp)) \
+                    - 2 * s0n * (s0n - w_c) / (cy * M)
+                disc = np.maximum(approach**2 - alpha * beta, 0.0)
+                omega1 = np.where(stick, (approach + np.sqrt(disc)) / alpha, omega1)
+                break
+            a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
+            Tn = np.hypot((np.abs(s0[..., 0]) - a1) / cy, (np.abs(s0[..., 1]) - b1) / cz)
+            lam = Tn / (M * omega1)
+        xi = M * omega1
+        if method == "ode":
+            s1 = _ode_slip(s0, M * cy, M * cz, f * omega1)
+            label = "ODE of the slip in the normal impulse (DOP853), with the exact normal impulse"
+        else:
+            a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
+            s1 = np.stack([np.sign(s0[..., 0]) * a1, np.sign(s0[..., 1]) * b1], axis=-1)
+            label = ("exact: slip decay in closed form (₂F₁), normal impulse from law (6) at a fixed point"
+                     if on_cloth else "exact: closed form, sliding or sticking (law (6) as a quadratic)")
+        T = np.stack([(s0[..., 0] - s1[..., 0]) / cy, (s0[..., 1] - s1[..., 1]) / cz], axis=-1)
+        stops = (np.hypot(s1[..., 0], s1[..., 1]) <= 1e-12 * np.maximum(s0n, 1e-300)) & (s0n > 0)
+    v1, w1, v1p, w1p = _apply(M, Mp, R, Rp, k, kp, v, w, vp, wp, xi, T, on_cloth)
+    return SpheresImpact(v1, w1, v1p, w1p, omega1, T, stops, label)
+
+
+def _ode_slip(s0: np.ndarray, alpha: np.ndarray, beta: np.ndarray, tau_end: np.ndarray) -> np.ndarray:
+    """Integrate ds = −(α s_y, β s_z)/|s| dτ over [0, τ_end] with a stop event, scene by scene."""
+    from scipy.integrate import solve_ivp
+
+    out = np.array(s0, dtype=float, copy=True)
+    for idx in np.ndindex(s0.shape[:-1]):
+        y0 = s0[idx]
+        scale = float(np.hypot(*y0))
+        if scale == 0 or tau_end[idx] <= 0:
+            continue
+        a_, b_ = alpha[idx], beta[idx]
+
+        def rhs(_t: float, y: np.ndarray, a_: float = a_, b_: float = b_) -> list[float]:
+            n = max(float(np.hypot(*y)), 1e-300)
+            return [-a_ * y[0] / n, -b_ * y[1] / n]
+
+        def stops(_t: float, y: np.ndarray, tiny: float = 1e-12 * scale) -> float:
+            return float(np.hypot(*y)) - tiny
+
+        stops.terminal = True
+        sol = solve_ivp(rhs, (0.0, tau_end[idx]), y0, method="DOP853", rtol=1e-11, atol=1e-14 * scale,
+                        events=stops)
+        out[idx] = sol.y[:, -1] if sol.status == 0 else 0.0
+    return out
