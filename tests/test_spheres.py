@@ -81,3 +81,22 @@ def test_experiment_verdicts():
 def test_bad_ball_ball_input(args, message):
     res = CliRunner().invoke(app, ["simulate", "ball-ball", *args])
     assert res.exit_code == 2 and message in " ".join(res.stderr.split()) and "Traceback" not in res.output
+
+
+@pytest.mark.parametrize("config, old, new, message", [
+    ("cushion-impact", "j: 0.20", "j: -0.2", "'params.j' must be the ball-cushion friction coefficient ≥ 0"),
+    ("cushion-impact", "eps: 0.29", "eps: 1.29", "'params.eps' must be Résal's ε of the ball on the cushion in [0, 1]"),
+    ("ball-ball", "f: 0.03", "f: -0.03", "'params.f' must be a ball-ball friction coefficient ≥ 0"),
+    ("ball-ball", "eps: 0.026", "eps: -0.1", "'params.eps' must be Résal's ε of the balls in [0, 1]"),
+])
+def test_bad_cushion_and_spheres_configs(tmp_path, config, old, new, message):
+    text = (api.config_dir() / f"{config}.yaml").read_text()
+    assert old in text
+    bad = text.replace(old, new, 1)
+    cfg = tmp_path / "bad.yaml"
+    cfg.write_text(bad)
+    res = CliRunner().invoke(app, ["reproduce", str(cfg), "--out", str(tmp_path / "res")])
+    line = bad[: bad.index(new)].count("\n") + 1
+    err = " ".join(res.stderr.split())
+    assert res.exit_code == 2 and f"{cfg}:{line}:" in err and message in err
+    assert not (tmp_path / "res").exists() or not any((tmp_path / "res").iterdir())
