@@ -271,22 +271,42 @@ def write_reproduction(rep: Reproduction, out: Path, prov: dict[str, Any] | None
     return final
 
 
-def write_index(out: Path) -> Path:
-    """``out/index.md``: one line per experiment found under ``out``, with its verdict counts."""
-    lines = ["# resal: results\n", "Reproduction of H. Résal (1883), *Commentaire à la théorie mathématique du jeu "
-             "de billard*. One folder per experiment; `summary.json` holds every number.\n",
-             "| experiment | section | title | reproduced | differs | not checkable | tables |",
-             "|---|---|---|---|---|---|---|"]
+def _summaries(out: Path) -> list[tuple[str, dict[str, Any]]]:
+    """(folder name, summary) of every experiment written under ``out``, in the paper's order (page, id)."""
+    found = []
     for d in sorted(p for p in out.iterdir() if p.is_dir() and not p.name.startswith(".")):
         f = d / "summary.json"
-        if not f.is_file():
-            continue
-        s = json.loads(f.read_text(encoding="utf-8"))
+        if f.is_file():
+            found.append((d.name, json.loads(f.read_text(encoding="utf-8"))))
+    return sorted(found, key=lambda x: (x[1]["source"].get("page") or 0, x[1]["experiment"]))
+
+
+def write_index(out: Path) -> Path:
+    """``out/index.md`` (one line per experiment found under ``out``, with its verdict counts) and
+    ``out/paper-table.{md,tex}`` (every printed value of the paper, in the paper's order)."""
+    lines = ["# resal: results\n", "Reproduction of H. Résal (1883), *Commentaire à la théorie mathématique du jeu "
+             "de billard*. One folder per experiment; `summary.json` holds every number; "
+             "[paper-table.md](paper-table.md) lists every printed value.\n",
+             "| experiment | section | title | reproduced | differs | not checkable | tables |",
+             "|---|---|---|---|---|---|---|"]
+    summaries = _summaries(out)
+    for name, s in summaries:
         v = [r["verdict"] for r in s["rows"]]
-        lines.append(f"| [{s['experiment']}]({d.name}/table.md) | {s['source']['section']} | {_md_escape(s['title'])} "
+        lines.append(f"| [{s['experiment']}]({name}/table.md) | {s['source']['section']} | {_md_escape(s['title'])} "
                      f"| {v.count('reproduced')} | {v.count('differs')} | {v.count('not-checkable')} "
-                     f"| [md]({d.name}/table.md) · [csv]({d.name}/table.csv) · [tex]({d.name}/table.tex) · "
-                     f"[json]({d.name}/summary.json) |")
+                     f"| [md]({name}/table.md) · [csv]({name}/table.csv) · [tex]({name}/table.tex) · "
+                     f"[json]({name}/summary.json) |")
     path = out / "index.md"
     _atomic_text(path, "\n".join(lines) + "\n")
+    md = ["# Every printed value of Résal (1883), in the paper's order\n"]
+    md.append(_md_table(("experiment", *HEADERS), ([s["experiment"], *_row_cells(r)] for _, s in summaries
+                                                    for r in s["rows"])))
+    _atomic_text(out / "paper-table.md", "\n".join(md))
+    tex = [r"% Every printed value of Résal (1883) (resal); needs \usepackage{booktabs, longtable} and UTF-8 input",
+           r"\begin{longtable}{lllllll}", r"\toprule",
+           " & ".join(_tex(h) for h in ("experiment", *HEADERS[:6])) + r" \\", r"\midrule"]
+    tex += [" & ".join(_tex(c) for c in [s["experiment"], *_row_cells(r)[:6]]) + r" \\"
+            for _, s in summaries for r in s["rows"]]
+    tex += [r"\bottomrule", r"\end{longtable}", ""]
+    _atomic_text(out / "paper-table.tex", "\n".join(tex))
     return path
