@@ -58,16 +58,8 @@ def _render(s: dict[str, Any]) -> None:
         t.add_row(Text(r["quantity"]), Text(r["source"]), Text(r["printed_text"]), comp, rel,
                   Text(r["verdict"], style=VERDICT_STYLE[r["verdict"]]), Text(r["note"]))
     out_console.print(t)
-    f = Table(title="fits", title_justify="left")
-    for h in ("parameter", "value", "std. error", "95 % interval", "identifiable", "note"):
-        f.add_column(h, overflow="fold", max_width=60 if h == "note" else None)
-    for x in s["fits"]:
-        ci = x["ci95"]
-        f.add_row(Text(x["parameter"]), "—" if x["value"] is None else f"{x['value']:.6g}",
-                  "—" if x["stderr"] is None else f"{x['stderr']:.3g}",
-                  "—" if ci[0] is None else f"[{ci[0]:.4g}, {ci[1]:.4g}]", "yes" if x["identifiable"] else "no",
-                  Text(x["note"]))
-    out_console.print(f)
+    if s["fits"]:
+        out_console.print(_fits_table(s["fits"], "fits"))
 
 
 @app.command()
@@ -159,6 +151,50 @@ def simulate(
             text = f"{v:.10g}" if isinstance(v, float) else str(v)
         t.add_row(f"out {k}", Text(text))
     out_console.print(t)
+
+
+def _fits_table(fits: list[dict[str, Any]], title: str) -> Table:
+    f = Table(title=title, title_justify="left")
+    for h in ("parameter", "value", "std. error", "95 % interval", "identifiable", "note"):
+        f.add_column(h, overflow="fold", max_width=60 if h == "note" else None)
+    for x in fits:
+        ci = x["ci95"]
+        f.add_row(Text(x["parameter"]), "—" if x["value"] is None else f"{x['value']:.6g}",
+                  "—" if x["stderr"] is None else f"{x['stderr']:.3g}",
+                  "—" if ci[0] is None else f"[{ci[0]:.4g}, {ci[1]:.4g}]", "yes" if x["identifiable"] else "no",
+                  Text(x["note"]))
+    return f
+
+
+@app.command()
+def fit(
+    kind: Annotated[str, typer.Argument(help="rebound (V0,V1 | h0,h1), pendulum (V0,V1,V1p[,M,Mp]), ricochet (x[,t])")],
+    csv_file: Annotated[Path, typer.Argument(help="your measurements, a CSV file with a header")],
+    M: Annotated[float, typer.Option("--M", help="pendulum: striking mass (kg), if not a column")] = 0.6,
+    Mp: Annotated[float, typer.Option("--Mp", help="pendulum: struck mass (kg), if not a column")] = 0.2,
+    R: Annotated[float, typer.Option("--R", help="ricochet: ball radius (m)")] = 0.0305,
+    sigma: Annotated[float | None, typer.Option(help="known std. dev. of each measurement")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="print one JSON object")] = False,
+) -> None:
+    """Fit ε or ν, with standard errors, 95 % intervals and what the data determine, from your own CSV."""
+    from reproductions.userfit import fit_csv
+
+    try:
+        for name, value in (("--M", M), ("--Mp", Mp), ("--R", R)):
+            if not value > 0:
+                raise InputError(f"{name} {value:g}", "expected a positive number")
+        if sigma is not None and not sigma > 0:
+            raise InputError(f"--sigma {sigma:g}", "expected a positive number")
+        result = fit_csv(kind, csv_file, M=M, Mp=Mp, R=R, sigma=sigma)
+    except InputError as err:
+        _fail(err)
+    if as_json:
+        typer.echo(json.dumps(result, indent=2, ensure_ascii=False))
+        return
+    out_console.print(_fits_table(result["fits"], f"{kind}: {result['file']} ({result['n']} rows)"))
+    for i in result["identifiability"]:
+        sv = ", ".join(f"{v:.3g}" for v in i["singular_values"])
+        out_console.print(Text(f"{i['data']}: rank {i['rank']} of {len(i['parameters'])} (singular values {sv})"))
 
 
 def _read_summary(path: Path) -> dict[str, Any]:
