@@ -7,6 +7,8 @@ Bad input of any kind ends with one message on stderr and exit status 2.
 from __future__ import annotations
 
 import json
+import os
+from functools import partial
 from pathlib import Path
 from typing import Annotated, Any, NoReturn
 
@@ -68,6 +70,7 @@ def reproduce(
     all_: Annotated[bool, typer.Option("--all", help="every experiment in configs/")] = False,
     as_json: Annotated[bool, typer.Option("--json", help="print summary.json on stdout instead of tables")] = False,
     out: Annotated[Path, typer.Option("--out", help="results folder")] = Path("results"),
+    jobs: Annotated[int | None, typer.Option(help="processes (default: one per core)")] = None,
 ) -> None:
     """Run experiments, compare every printed value, write tables and figures into OUT/<experiment>/."""
     from reproductions import api, report
@@ -86,16 +89,13 @@ def reproduce(
                                     f"{out / e.id}")
             seen[e.id] = n
         report.ensure_writable(out)
-        summaries = []
+        jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, len(exps)))
         with err_console.status("") as status:
-            reps = []
-            for i, e in enumerate(exps, 1):  # run all first: a bad data file stops before anything is written
-                status.update(f"[{i}/{len(exps)}] {e.id}: running")
-                reps.append(api.run(e))
-            for i, rep in enumerate(reps, 1):
-                status.update(f"[{i}/{len(reps)}] {rep.experiment.id}: writing tables and figures")
-                folder = report.write_reproduction(rep, out)
-                summaries.append(json.loads((folder / "summary.json").read_text(encoding="utf-8")))
+            # run all first: a bad data file stops everything before anything is written
+            reps = api.parallel_map(api.run, exps, jobs, lambda d, n: status.update(f"running: {d}/{n} done"))
+            folders = api.parallel_map(partial(report.write_reproduction, out=out), reps, jobs,
+                                       lambda d, n: status.update(f"writing tables and figures: {d}/{n} done"))
+            summaries = [json.loads((f / "summary.json").read_text(encoding="utf-8")) for f in folders]
             report.write_index(out)
     except InputError as err:
         _fail(err)

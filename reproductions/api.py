@@ -3,14 +3,19 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TypeVar
 
 from .config import Experiment, load_experiment
 from .errors import InputError
 from .experiments import KINDS
 from .experiments.base import Reproduction
 
-__all__ = ["config_dir", "experiment_ids", "list_experiments", "load", "run"]
+__all__ = ["config_dir", "experiment_ids", "list_experiments", "load", "parallel_map", "run"]
+
+T = TypeVar("T")
+R = TypeVar("R")
 
 
 def config_dir() -> Path:
@@ -49,3 +54,28 @@ def list_experiments() -> list[Experiment]:
 def run(exp: Experiment) -> Reproduction:
     """Run one experiment: physics, fits and comparisons, no I/O but reading its data files."""
     return KINDS[exp.kind].run(exp)
+
+
+def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
+                 progress: Callable[[int, int], None] | None = None) -> list[R]:
+    """``[fn(x) for x in items]`` on up to ``jobs`` processes, results in the input order; ``progress(done,
+    total)`` is called as items finish. Exceptions (an ``InputError`` from a data file) propagate."""
+    if jobs <= 1 or len(items) <= 1:
+        out = []
+        for i, x in enumerate(items, 1):
+            out.append(fn(x))
+            if progress:
+                progress(i, len(items))
+        return out
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
+    results: list[R | None] = [None] * len(items)
+    with ProcessPoolExecutor(max_workers=min(jobs, len(items)), mp_context=ctx) as pool:
+        futures = {pool.submit(fn, x): i for i, x in enumerate(items)}
+        for done, fut in enumerate(as_completed(futures), 1):
+            results[futures[fut]] = fut.result()
+            if progress:
+                progress(done, len(items))
+    return results  # type: ignore[return-value]

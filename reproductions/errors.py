@@ -13,3 +13,6 @@ class InputError(Exception):
         super().__init__(f"{where}: {message}")
         self.where = where
         self.message = message
+
+    def __reduce__(self) -> tuple[type, tuple[str, str]]:  # so that it crosses process boundaries intact
+        return (InputError, (self.where, self.message))

@@ -218,6 +218,7 @@ def _draw(spec: FigureSpec, folder: Path) -> None:
     if any(ly.label and ly.kind != "heatmap" for ly in spec.layers):
         ax.legend(fontsize=8, loc="best")
     fig.savefig(folder / f"{spec.name}.png", dpi=120, metadata={"Software": None})
+    fig.set_layout_engine("none")  # the layout is done: keep it for the PDF instead of solving it again
     fig.savefig(folder / f"{spec.name}.pdf", metadata={"Creator": None, "Producer": None, "CreationDate": None})
     plt.close(fig)
 

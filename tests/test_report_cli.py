@@ -110,3 +110,22 @@ def test_diff_finds_a_changed_number_and_accepts_identical(written, tmp_path):
     assert "rows.eps.computed" in changed.stdout
     bad = runner.invoke(app, ["diff", str(a), str(tmp_path / "none.json")])
     assert bad.exit_code == 2
+
+
+def test_parallel_and_sequential_runs_write_the_same_files(tmp_path):
+    for jobs in ("1", "2"):
+        res = runner.invoke(app, ["reproduce", "marble-drop", "coriolis-cushion", "--jobs", jobs,
+                                  "--out", str(tmp_path / jobs)])
+        assert res.exit_code == 0, res.output
+    for eid in ("marble-drop", "coriolis-cushion"):
+        for name in ("summary.json", "table.md", "table.csv", "table.tex"):
+            assert (tmp_path / "1" / eid / name).read_bytes() == (tmp_path / "2" / eid / name).read_bytes()
+
+
+def test_input_error_survives_pickling():
+    import pickle
+
+    from reproductions.errors import InputError
+
+    err = pickle.loads(pickle.dumps(InputError("data.csv:3", "column 'x': expected a number")))
+    assert (err.where, err.message) == ("data.csv:3", "column 'x': expected a number")
