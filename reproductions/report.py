@@ -121,9 +121,10 @@ def table_md(s: dict[str, Any]) -> str:
         out.append(f"Data: {s['data_note']}\n")
     out.append("## Printed values\n")
     out.append(_md_table(HEADERS, (_row_cells(r) for r in s["rows"])))
-    out.append("\n## Fits\n")
-    out.append(_md_table(("parameter", "value", "std. error", "95 % interval", "identifiable", "note"),
-                         (_fit_cells(f) for f in s["fits"])))
+    if s["fits"]:
+        out.append("\n## Fits\n")
+        out.append(_md_table(("parameter", "value", "std. error", "95 % interval", "identifiable", "note"),
+                             (_fit_cells(f) for f in s["fits"])))
     for i in s.get("identifiability", []):
         sv = ", ".join(f"{v:.3g}" for v in i["singular_values"])
         text = (f"Parameters {', '.join(i['parameters'])}; {i['n_data']} residuals; singular values of the "
