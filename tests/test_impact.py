@@ -124,3 +124,9 @@ def test_stress_sweep_over_extreme_inputs_is_stable():
     assert res["max_momentum_rel_error"] < 1e-12
     assert res["max_energy_law_rel_error"] < 1e-12
     assert res["max_energy_gained_rel"] < 1e-12
+
+
+@given(mass, mass, coef)
+def test_newton_correspondence_round_trips_for_equal_coefficients(M, Mp, eps):
+    e = impact.newton_restitution(M, Mp, eps, eps)
+    assert float(impact.eps_from_newton(e)) == pytest.approx(eps, abs=1e-12)
