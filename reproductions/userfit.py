@@ -57,7 +57,8 @@ def fit_csv(kind: str, path: Path, M: float = 0.6, Mp: float = 0.2, R: float = 0
     else:
         surface = ricochet.Surface("user", path.stem, None, path)
         x, t = ricochet.load_series(surface)
-        p = ricochet.Params(R, k, G, 0.0, (surface,), 1, 1.0, 1.0, 0.5, 0.8)
+        p = ricochet.Params(R=R, k=k, g=G, p0_fit=0.0, surfaces=(surface,), seeds=1, drop_height_ratio=1.0,
+                            map_alpha_max=1.0, map_f_max=0.5, map_nu=0.8)  # the map fields are unused by the fits
         fx = ricochet.fit_positions(p, x)
         labels = {"nu": "ν", "A": "A = 2a0² sin α0 cos α0/g (m)", "u": "f tan α0"}
         fits = fit_rows(fx, labels, "least squares on imprint positions (§III, spinless)", note)

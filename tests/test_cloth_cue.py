@@ -49,8 +49,14 @@ def test_rolling_resistance_stops_the_ball_and_a_rolling_ball_skips_sliding():
 
 def test_coriolis_centre_of_oscillation_gives_immediate_rolling():
     h = float(cloth.centre_of_oscillation(R, K))
-    # a horizontal impulse P at height h: v = P/M, ω = P h k/(M R²): rolling iff v = Rω
-    assert 1.0 == pytest.approx(R * h * K / R**2)
+    M, P = 0.21, 0.4
+    for height, rolls in ((h, True), (0.8 * h, False), (1.2 * h, False)):
+        # a horizontal impulse P at `height` above the centre: v = P/M, ω_y = P·height·k/(M R²)
+        m = cloth.slide(P / M, 0.0, 0.0, P * height * K / (M * R**2), R, K)
+        assert (float(m.t_roll) < 1e-12) == rolls
+    # and the stroke model of §VII agrees: a horizontal cue at that height leaves no slip on the cloth
+    s = cue.cue_stroke(M, 0.63, 3.0, 0.0, 0.0, h, R, K, 0.25, 0.0, 0.8)
+    assert float(s.chi1 - s.p1 * R) == pytest.approx(0.0, abs=1e-12)
 
 
 def test_cue_closed_form_matches_the_impulse_integration_in_both_cloth_regimes():

@@ -74,8 +74,10 @@ def test_order_of_resal_approximation_in_j(method, order):
 
 def test_experiment_verdicts():
     rows = {r.id: r for r in api.run(api.load("cushion-impact")).rows}
-    for rid in ("eq4", "eq5", "eq6", "eq9", "closed_form", "approx", "nu"):
+    for rid in ("eq4", "eq5", "eq6", "eq9", "closed_form", "approx"):
         assert rows[rid].verdict == "reproduced", rid
+    # ε is derived from Coriolis's measured ratio by eq. (9), never read from the printed 0,29
+    assert api.load("cushion-impact").params.eps == pytest.approx(0.45 / 1.55, rel=1e-12)
     for rid in ("eq7", "eq10"):
         assert rows[rid].verdict == "differs" and "exponent" in rows[rid].note
 

@@ -85,7 +85,8 @@ def test_bad_ball_ball_input(args, message):
 
 @pytest.mark.parametrize("config, old, new, message", [
     ("cushion-impact", "j: 0.20", "j: -0.2", "'params.j' must be the ball-cushion friction coefficient ≥ 0"),
-    ("cushion-impact", "eps: 0.29", "eps: 1.29", "'params.eps' must be Résal's ε of the ball on the cushion in [0, 1]"),
+    ("cushion-impact", "nu: 0.55", "nu: 1.55",
+     "'params.nu' must be the measured ratio of normal velocities after/before in [0, 1]"),
     ("ball-ball", "f: 0.03", "f: -0.03", "'params.f' must be a ball-ball friction coefficient ≥ 0"),
     ("ball-ball", "eps: 0.026", "eps: -0.1", "'params.eps' must be Résal's ε of the balls in [0, 1]"),
 ])

@@ -15,11 +15,10 @@ from pathlib import Path
 import numpy as np
 
 from ..config import Experiment, Node
-from ..mechanics import cushion
+from ..mechanics import cushion, impact
 from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
 
-QUANTITIES = ("eq4", "eq5", "eq6", "eq7_as_printed", "eq9", "eq10_as_printed", "closed_form", "approx_error",
-              "nu")
+QUANTITIES = ("eq4", "eq5", "eq6", "eq7_as_printed", "eq9", "eq10_as_printed", "closed_form", "approx_error")
 MODERN = ("mu_c", "e_c", "e_c(v)")
 
 
@@ -28,7 +27,8 @@ class Params:
     R: float
     k: float
     j: float
-    eps: float
+    nu: float  # Coriolis's measured normal-velocity ratio (data of n°5)
+    eps: float  # the ε it implies by eq. (9) of §I
     speed: float  # m/s, of the ball reaching the cushion (rolling on the cloth)
     modern_e: tuple[float, ...]  # a speed law e(v) = c0 + c1 v + c2 v², from modern-values.csv
     modern_e_vmax: float
@@ -37,14 +37,14 @@ class Params:
 def parse(node: Node, base: Path) -> Params:
     R, k = read_ball(node)
     j = node.number("j", "the ball-cushion friction coefficient", lo=0.0)
-    eps = node.number("eps", "Résal's ε of the ball on the cushion", lo=0.0, hi=1.0)
+    nu = node.number("nu", "the measured ratio of normal velocities after/before", lo=0.0, hi=1.0)
     speed = node.number("speed", "a speed in m/s", lo=0.0, lo_open=True)
     law = node.child("modern_law", "a mapping with coefficients and v_max")
     coeffs = law.number_list("coefficients", "polynomial coefficients c0, c1, c2")
     vmax = law.number("v_max", "a speed in m/s", lo=0.0, lo_open=True)
     law.done()
     node.done()
-    return Params(R, k, j, eps, speed, coeffs, vmax)
+    return Params(R, k, j, nu, float(impact.eps_from_velocity_ratio(nu)), speed, coeffs, vmax)
 
 
 def _scenes(seed: int, n: int = 40) -> tuple[np.ndarray, ...]:
@@ -126,16 +126,16 @@ def run(exp: Experiment) -> Reproduction:
         f"rebound angle errs by up to {err.max():.2f}° ({where}). The error is O(j²) with the printed exponent, "
         f"O(j³) with the derived one (method resal-corrected)"))
     computed["closed_form"] = Computed(c["closed_form"], how + "; the exact path is the ₂F₁ closed form")
-    computed["nu"] = Computed(float(cushion.nu_from_eps(p.eps)), f"(1 − ε)/(1 + ε) with ε = {p.eps:g} (n°5)")
     e_modern = _modern_e(p, p.speed * np.cos(theta))
     modern = modern_rows(exp.modern, {
         "mu_c": (p.j, "Coriolis's j (n°11)"),
-        "e_c": (float(cushion.nu_from_eps(p.eps)), "ν = (1 − ε)/(1 + ε), ε = 0,29 (n°5)"),
-        "e_c(v)": (float(cushion.nu_from_eps(p.eps)), "constant, against the law at the figure's speeds"),
+        "e_c": (p.nu, "ν, Coriolis's measured ratio (n°5)"),
+        "e_c(v)": (p.nu, "constant, against the law at the figure's speeds"),
     })
     return Reproduction(exp, rows_for(exp, computed), (), (
         _figure_error(theta, spin, err), _figure_rebound(p, theta, e_modern)), modern,
-        data_note=f"j = {p.j:g}, ε = {p.eps:g}, ball rolling into the cushion at {p.speed:g} m/s")
+        data_note=(f"j = {p.j:g}, ν = {p.nu:g} (ε = {p.eps:.4g} by eq. 9), ball rolling into the cushion at "
+                   f"{p.speed:g} m/s"))
 
 
 def _modern_e(p: Params, v_normal: np.ndarray) -> np.ndarray:
