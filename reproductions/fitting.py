@@ -3,8 +3,14 @@
 ``least_squares_fit`` is generic: a residual function, bounds, optional measurement standard deviations.
 It always inspects the Jacobian at the solution (singular values, numerical rank, null directions),
 because scipy's ``curve_fit``/``least_squares`` return a point without a word when the data determine
-only a combination of the parameters. When they do, it reports the identified combinations with their
-uncertainties and the family of solutions along the null direction, clipped to the bounds.
+only a combination of the parameters. When they do, the report says only what the data determine, in a form
+that rounding cannot move (where an optimiser stops along a family of equal solutions is set by rounding):
+
+- a canonical point: the point of the family nearest the centre of the bounds (``_canonical_point``);
+- null directions oriented canonically (``orient``: largest component +1);
+- a ``Family`` that is either exact (given by the caller from the model's structure, through ``analyse``) or
+  the linearisation at the canonical point, checked by the χ² at its ends and withheld when it fails;
+- the identified combinations with their uncertainties.
 
 Uncertainties: with ``sigma`` given, the covariance is (JᵀWJ)⁻¹ (absolute sigma) and intervals use the
 normal quantile; without it, the noise is estimated from the residuals, s² = RSS/(m − rank), and
@@ -16,6 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from enum import Enum
 
 import numpy as np
 from scipy import optimize, stats
@@ -25,23 +32,55 @@ from .mechanics import impact
 __all__ = [
     "Combination",
     "Estimate",
+    "Family",
+    "FamilyKind",
     "FitResult",
     "Identifiability",
+    "analyse",
     "fit_direct_impact",
     "fit_rebound",
     "least_squares_fit",
+    "orient",
 ]
 
 RANK_RTOL = 1e-7  # singular values below this fraction of the largest count as zero (finite-difference J)
+FAMILY_CHI2 = 1.0  # a linearised family holds if its ends fit within Δχ² ≤ 1 (one σ on the unknown parameter)
+CANONICAL_MAXITER = 50  # bound on the iteration that moves a rank-deficient solution to its canonical point
+CANONICAL_XTOL = 1e-12  # relative to the box width: convergence of that iteration
+
+
+class FamilyKind(str, Enum):
+    """How a family of equally good solutions was obtained."""
+
+    EXACT = "exact"  # in closed form, from the model's own structure (every point fits exactly as well)
+    LINEARISED = "linearised"  # the tangent segment at the canonical point, checked by the fit at its ends
+
+
+@dataclass(frozen=True)
+class Family:
+    """The solutions of a rank-deficient fit along its one null direction, within the bounds.
+
+    ``ranges[i]`` is the interval parameter i spans on the family (None where the data determine it);
+    ``end_chi2`` the increase of χ² (in units of the noise variance) at each end over the canonical point:
+    zero to rounding for an exact family, and checked against ``FAMILY_CHI2`` for a linearisation.
+    """
+
+    kind: FamilyKind
+    along: str  # the parameter that runs along the family
+    ends: tuple[tuple[float, ...], tuple[float, ...]]
+    ranges: tuple[tuple[float, float] | None, ...]
+    end_chi2: tuple[float, float]
+    holds: bool
+    label: str = ""
 
 
 @dataclass(frozen=True)
 class Identifiability:
-    """What the data determine: the SVD of the (weighted) Jacobian at the solution."""
+    """What the data determine: the SVD of the (weighted) Jacobian at the (canonical) solution."""
 
     singular_values: tuple[float, ...]
     rank: int
-    null_directions: tuple[tuple[float, ...], ...]
+    null_directions: tuple[tuple[float, ...], ...]  # oriented by ``orient``: largest component +1
     condition_number: float | None
 
 
@@ -70,15 +109,16 @@ class Combination:
 @dataclass(frozen=True)
 class FitResult:
     names: tuple[str, ...]
-    point: tuple[float, ...]
+    point: tuple[float, ...]  # the optimum; when the rank is short, the canonical point of the family
     estimates: tuple[Estimate, ...]
     combinations: tuple[Combination, ...]
     identifiability: Identifiability
-    family: tuple[tuple[float, ...], tuple[float, ...]] | None  # end points of the solution segment
+    family: Family | None
     n_data: int
     dof: int
     residual_rms: float
     noise: str  # "given sigma" | "estimated from residuals" | "none"
+    canonical: str = ""  # how the point was made canonical when the rank is short (for people)
 
     def estimate(self, name: str) -> Estimate:
         return self.estimates[self.names.index(name)]
@@ -103,15 +143,112 @@ def _interval(value: float, se: float | None, q: float | None) -> tuple[float | 
     return (value - q * se, value + q * se)
 
 
-def _segment(x: np.ndarray, n: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """End points of {x + t n} inside the box [lo, hi]."""
+def _segment(x: np.ndarray, n: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[float, float]:
+    """The interval of t for which x + t n stays inside the box [lo, hi]."""
     t_lo, t_hi = -np.inf, np.inf
+    scale = np.max(np.abs(n))
     for xi, ni, a, b in zip(x, n, lo, hi, strict=True):
-        if abs(ni) < 1e-12:
+        if abs(ni) <= 1e-12 * scale:
             continue
         t1, t2 = (a - xi) / ni, (b - xi) / ni
         t_lo, t_hi = max(t_lo, min(t1, t2)), min(t_hi, max(t1, t2))
-    return x + t_lo * n, x + t_hi * n
+    return float(t_lo), float(t_hi)
+
+
+def orient(v: np.ndarray) -> np.ndarray:
+    """A direction in canonical form: scaled so that its largest-magnitude component is +1 (the first one on a
+    tie). Components below 1e-12 of it are set to 0. Unlike 'smallest component = 1', no threshold decides
+    which component normalises, so rounding cannot swap it; only the sign can flip, at an exact tie."""
+    v = np.asarray(v, dtype=float)
+    i = int(np.argmax(np.abs(v)))
+    out = v / v[i]
+    return np.where(np.abs(out) < 1e-12, 0.0, out)
+
+
+def _canonical(v: np.ndarray) -> np.ndarray:
+    """A determined combination scaled for reading: its smallest non-negligible coefficient +1 (ε + 3ε′)."""
+    v = orient(v)
+    nz = v[np.abs(v) >= 1e-6]
+    return v / nz[np.argmin(np.abs(nz))]
+
+
+@dataclass(frozen=True)
+class _Problem:
+    """A weighted least-squares problem: residuals r(θ)/σ, their Jacobian, the bounds."""
+
+    fun: Callable[[np.ndarray], np.ndarray]
+    jac: Callable[[np.ndarray], np.ndarray] | None
+    lo: np.ndarray
+    hi: np.ndarray
+
+    def J(self, x: np.ndarray) -> np.ndarray:
+        return self.jac(x) if self.jac is not None else _jacobian(self.fun, x)
+
+    def solve(self, x0: np.ndarray, free: np.ndarray | None = None) -> np.ndarray:
+        """Minimise over the parameters where ``free`` (all by default), the others held at x0."""
+        if free is None:
+            free = np.ones(x0.size, dtype=bool)
+        base = x0.copy()
+
+        def full(z: np.ndarray) -> np.ndarray:
+            out = base.copy()
+            out[free] = z
+            return out
+
+        def fun(z: np.ndarray) -> np.ndarray:
+            return self.fun(full(z))
+
+        def jac_free(z: np.ndarray) -> np.ndarray:
+            return self.J(full(z))[:, free]
+
+        jac = jac_free if self.jac is not None else "2-point"
+        z0 = np.clip(x0[free], self.lo[free], self.hi[free])
+        sol = optimize.least_squares(fun, z0, bounds=(self.lo[free], self.hi[free]), method="trf", jac=jac,
+                                     xtol=1e-14, ftol=1e-14, gtol=1e-14)
+        return full(sol.x)
+
+
+def _null_space(J: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+    _, s, Vt = np.linalg.svd(J, full_matrices=True)
+    s_full = np.zeros(J.shape[1])
+    s_full[: s.size] = s
+    rank = int(np.sum(s_full > RANK_RTOL * s_full[0])) if s_full[0] > 0 else 0
+    return s_full, Vt.T, rank
+
+
+def _canonical_point(pb: _Problem, x: np.ndarray) -> tuple[np.ndarray, str]:
+    """Move a solution along a one-dimensional family to the point nearest the centre of the box.
+
+    In coordinates scaled by the box widths, the canonical point is where the family's tangent is orthogonal to
+    the line from the box centre (the nonlinear analogue of the minimum-norm least-squares solution). Each step
+    projects the centre on the tangent at the current point, fixes the parameter with the largest tangent
+    component there and refits the others (a full-rank problem); it stops when that parameter moves less than
+    ``CANONICAL_XTOL`` of its width, or says it did not converge after ``CANONICAL_MAXITER`` steps. Where the
+    distance along the family has several minima, this is the one whose basin holds the optimum: a rounding-level
+    change cannot move it, a distant start can (it is canonical for the fit, not unique for the model).
+    """
+    finite = np.isfinite(pb.lo) & np.isfinite(pb.hi)
+    width = np.where(finite, pb.hi - pb.lo, 1.0)
+    centre = np.where(finite, 0.5 * (pb.lo + pb.hi), 0.0)
+    zlo, zhi = (pb.lo - centre) / width, (pb.hi - centre) / width
+    for _ in range(CANONICAL_MAXITER):
+        _, V, _ = _null_space(pb.J(x))
+        ns = V[:, -1] / width  # the tangent in coordinates scaled by the box widths
+        ns /= np.linalg.norm(ns)
+        z = (x - centre) / width
+        t_lo, t_hi = _segment(z, ns, zlo, zhi)
+        t = min(max(-float(ns @ z), t_lo), t_hi)
+        i = int(np.argmax(np.abs(ns)))
+        target = x + t * ns * width
+        free = np.ones(x.size, dtype=bool)
+        free[i] = False
+        x_new = pb.solve(target, free)
+        moved = abs(x_new[i] - x[i]) / width[i]
+        x = x_new
+        if moved <= CANONICAL_XTOL:
+            return x, "point of the family nearest the centre of the bounds"
+    return x, (f"point of the family nearest the centre of the bounds: NOT converged in {CANONICAL_MAXITER} steps; "
+               "the reported point may depend on rounding")
 
 
 def least_squares_fit(
@@ -124,8 +261,21 @@ def least_squares_fit(
 ) -> FitResult:
     """Minimise Σ (rᵢ/σᵢ)² within bounds, then report uncertainties and identifiability (see module doc).
 
-    ``jac`` (the Jacobian of the unweighted residuals) is optional; without it, central differences.
+    ``jac`` (the Jacobian of the unweighted residuals) is optional; without it, central differences. When the
+    rank is short by one, the solution is moved to its canonical point (``_canonical_point``) and the family is
+    the linearisation there, checked at its ends; use ``analyse`` with an exact family where one is known.
     """
+    pb = _weighted(residuals, bounds, sigma, jac)
+    x = pb.solve(np.asarray(x0, dtype=float))
+    rank = _null_space(pb.J(x))[2]
+    how = ""
+    if rank == x.size - 1:
+        x, how = _canonical_point(pb, x)
+    return _analyse(pb, residuals, x, names, sigma, None, how)
+
+
+def _weighted(residuals: Callable[[np.ndarray], np.ndarray], bounds: tuple[Sequence[float], Sequence[float]],
+              sigma: np.ndarray | float | None, jac: Callable[[np.ndarray], np.ndarray] | None) -> _Problem:
     lo, hi = (np.asarray(b, dtype=float) for b in bounds)
     w = None if sigma is None else 1.0 / np.asarray(sigma, dtype=float)
 
@@ -138,46 +288,60 @@ def least_squares_fit(
         J = np.asarray(jac(x), dtype=float)
         return J if w is None else J * np.broadcast_to(w, (J.shape[0],))[:, None]
 
-    sol = optimize.least_squares(weighted, np.asarray(x0, dtype=float), bounds=(lo, hi), method="trf",
-                                 jac=weighted_jac if jac is not None else "2-point",
-                                 xtol=1e-14, ftol=1e-14, gtol=1e-14)
-    x = sol.x
-    r = weighted(x)
-    J = weighted_jac(x) if jac is not None else _jacobian(weighted, x)
-    _, s, Vt = np.linalg.svd(J, full_matrices=True)
-    s_full = np.zeros(x.size)
-    s_full[: s.size] = s
-    rank = int(np.sum(s_full > RANK_RTOL * s_full[0])) if s_full[0] > 0 else 0
+    return _Problem(weighted, weighted_jac if jac is not None else None, lo, hi)
+
+
+def analyse(
+    residuals: Callable[[np.ndarray], np.ndarray],
+    x: Sequence[float],
+    names: Sequence[str],
+    bounds: tuple[Sequence[float], Sequence[float]],
+    sigma: np.ndarray | float | None = None,
+    jac: Callable[[np.ndarray], np.ndarray] | None = None,
+    family: Family | None = None,
+    canonical: str = "",
+) -> FitResult:
+    """The report of ``least_squares_fit`` at a solution known otherwise (e.g. in closed form from a fit of the
+    combinations the data determine), with an exact ``family`` where the model gives one."""
+    pb = _weighted(residuals, bounds, sigma, jac)
+    return _analyse(pb, residuals, np.asarray(x, dtype=float), names, sigma, family, canonical)
+
+
+def _analyse(pb: _Problem, residuals: Callable[[np.ndarray], np.ndarray], x: np.ndarray, names: Sequence[str],
+             sigma: np.ndarray | float | None, family: Family | None, canonical: str) -> FitResult:
+    r = pb.fun(x)
+    s_full, V, rank = _null_space(pb.J(x))
     m = r.size
     dof = m - rank
     rss = float(r @ r)
-    if w is not None:
+    if sigma is not None:
         s2, q, noise = 1.0, float(stats.norm.ppf(0.975)), "given sigma"
     elif dof > 0:
         s2, q, noise = rss / dof, float(stats.t.ppf(0.975, dof)), "estimated from residuals"
     else:
         s2, q, noise = None, None, "none"
-    V = Vt.T
     Vr, Vn = V[:, :rank], V[:, rank:]
     cov = None if s2 is None or rank == 0 else (Vr / s_full[:rank] ** 2) @ Vr.T * s2
+    nulls = tuple(orient(Vn[:, k]) for k in range(Vn.shape[1]))
     ident = Identifiability(
         singular_values=tuple(float(v) for v in s_full),
         rank=rank,
-        null_directions=tuple(tuple(float(v) for v in _canonical(Vn[:, k])) for k in range(Vn.shape[1])),
+        null_directions=tuple(tuple(float(v) for v in d) for d in nulls),
         condition_number=float(s_full[0] / s_full[rank - 1]) if rank else None,
     )
-    family = None
-    if Vn.shape[1] == 1:
-        a, b = _segment(x, Vn[:, 0], lo, hi)
-        family = (tuple(float(v) for v in a), tuple(float(v) for v in b))
+    if family is None and len(nulls) == 1:
+        family = _linearised_family(pb, x, nulls[0], names, rss, s2, float(s_full[0]))
     estimates = []
     for i, name in enumerate(names):
-        identifiable = bool(np.all(np.abs(Vn[i, :]) < 1e-6)) if Vn.size else True
+        if family is not None:  # the family knows: a parameter is determined iff it does not vary along it
+            identifiable = family.ranges[i] is None
+        else:
+            identifiable = bool(np.all(np.abs(Vn[i, :]) < 1e-6)) if Vn.size else True
         if identifiable:
             se = None if cov is None else float(np.sqrt(max(cov[i, i], 0.0)))
             estimates.append(Estimate(name, float(x[i]), se, _interval(float(x[i]), se, q), True, None))
         else:
-            rng = None if family is None else tuple(sorted((family[0][i], family[1][i])))
+            rng = family.ranges[i] if family is not None and family.holds else None
             estimates.append(Estimate(name, None, None, (None, None), False, rng))
     combos = []
     if 0 < rank < x.size:
@@ -190,14 +354,28 @@ def least_squares_fit(
         names=tuple(names), point=tuple(float(v) for v in x), estimates=tuple(estimates),
         combinations=tuple(combos), identifiability=ident, family=family, n_data=m, dof=dof,
         residual_rms=float(np.sqrt(np.mean(np.asarray(residuals(x), dtype=float) ** 2))), noise=noise,
+        canonical=canonical,
     )
 
 
-def _canonical(v: np.ndarray) -> np.ndarray:
-    """Scale a direction so that its smallest non-negligible coefficient is +1 (reads as ε + 3ε′)."""
-    v = np.where(np.abs(v) < 1e-9 * np.max(np.abs(v)), 0.0, v)
-    nz = v[v != 0.0]
-    return v / nz[np.argmin(np.abs(nz))]
+def _linearised_family(pb: _Problem, x: np.ndarray, n: np.ndarray, names: Sequence[str], rss: float,
+                       s2: float | None, s_max: float) -> Family:
+    """The segment x + t n within the bounds, with the χ² increase at both ends: it holds if both are ≤
+    ``FAMILY_CHI2`` in units of the noise variance, or, where the data are exact (no noise to measure), of the
+    rounding of the residuals, taken as (1e-10 · largest singular value · |x|)²."""
+    t_lo, t_hi = _segment(x, n, pb.lo, pb.hi)
+    ends = (x + t_lo * n, x + t_hi * n)
+    unit = max(s2 or 0.0, (1e-10 * s_max * max(float(np.linalg.norm(x)), 1.0)) ** 2, np.finfo(float).tiny)
+    d = tuple(float((np.sum(pb.fun(e) ** 2) - rss) / unit) for e in ends)
+    moving = np.abs(n) > 0
+    ranges = tuple((float(min(ends[0][i], ends[1][i])), float(max(ends[0][i], ends[1][i]))) if moving[i] else None
+                   for i in range(x.size))
+    along = names[int(np.argmax(np.abs(n)))]
+    ends_t = (tuple(float(v) for v in ends[0]), tuple(float(v) for v in ends[1]))
+    holds = max(d) <= FAMILY_CHI2
+    return Family(FamilyKind.LINEARISED, along, ends_t, ranges, d, holds,
+                  "tangent segment at the canonical point" + ("" if holds else
+                                                               f": does NOT hold, Δχ² = {max(d):.3g} at an end"))
 
 
 def fit_direct_impact(

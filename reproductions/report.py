@@ -132,9 +132,13 @@ def table_md(s: dict[str, Any]) -> str:
         if i["null_directions"]:
             nd = "; ".join("(" + ", ".join(f"{v:.4g}" for v in d) + ")" for d in i["null_directions"])
             text += f" Null direction(s) {nd}: moving along them leaves every prediction unchanged."
-        if i["family_of_solutions"]:
-            a, b = (", ".join(f"{v:.4g}" for v in end) for end in i["family_of_solutions"])
-            text += f" Solutions within the bounds: the segment from ({a}) to ({b})."
+        fam = i["family_of_solutions"]
+        if fam:
+            a, b = (", ".join(f"{v:.4g}" for v in end) for end in fam["ends"])
+            kind = "the exact family" if fam["kind"] == "exact" else "the linearised family (tangent segment)"
+            check = "holds" if fam["holds"] else "does NOT hold"
+            text += (f" Solutions within the bounds: {kind} from ({a}) to ({b}), along {fam['along']}; "
+                     f"Δχ² at its ends {max(fam['end_chi2']):.2g}: it {check}. {fam['label']}.")
         out.append(f"\n## Identifiability ({_md_escape(i['data'])})\n\n{text}\n")
     for t in s.get("tables", []):
         out.append(f"\n## {t['title']}\n")

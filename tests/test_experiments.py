@@ -27,7 +27,7 @@ def test_pendulum_reproduces_the_paper_reading_and_flags_the_swap():
     assert ident["rank"] == 1
     (null,) = ident["null_directions"]
     assert null[0] / null[1] == pytest.approx(-3.0, rel=1e-9)  # ε + 3ε′ unchanged along it
-    ends = sorted(map(tuple, ident["family_of_solutions"]))
+    ends = sorted(map(tuple, ident["family_of_solutions"]["ends"]))
     assert [v for end in ends for v in end] == pytest.approx([0.0, 4 / 15, 0.8, 0.0], abs=1e-9)
     (comb,) = [f for f in rep.fits if "+" in f.parameter]
     assert comb.value == pytest.approx(0.8, rel=1e-6)

@@ -19,7 +19,8 @@ def test_one_mass_ratio_determines_only_a_combination():
     (comb,) = fit.combinations
     assert comb.coefficients[1] / comb.coefficients[0] == pytest.approx(M / Mp, rel=1e-6)
     assert comb.value == pytest.approx(0.1 + 3 * 0.2, rel=1e-8)
-    a, b = fit.family
+    a, b = fit.family.ends
+    assert fit.family.holds  # the model depends on a linear combination: the tangent segment is exact
     for end in (a, b):  # both ends of the family lie on the bounds and reproduce the data
         assert min(end) == pytest.approx(0.0, abs=1e-9)
         out = impact.direct_impact(M, Mp, V0, 0.0, *end)
@@ -89,3 +90,42 @@ def test_analytic_jacobians_match_finite_differences():
     J_fd = fitting._jacobian(res, np.array(fit.point))
     s_fd = np.linalg.svd(J_fd, compute_uv=False)
     np.testing.assert_allclose(fit.identifiability.singular_values, s_fd, rtol=1e-6)
+
+
+def _product_fit(x0):
+    """y = a·b·x: only the product is determined; the solutions form a hyperbola, a curved family."""
+    x = np.linspace(0.5, 2.0, 9)
+    y = 1.5 * x + 0.01 * np.sin(7 * x)  # fixed 'noise'
+    return fitting.least_squares_fit(lambda t: t[0] * t[1] * x - y, x0, ["a", "b"], ([0.1, 0.1], [4.0, 2.0]))
+
+
+def test_a_rank_deficient_fit_reports_one_canonical_point_whatever_the_start():
+    # in this box the distance to the centre has one minimum along the hyperbola (where it has several, the
+    # iteration finds the one whose basin holds the optimum: rounding cannot move it, a distant start can)
+    fits = [_product_fit(x0) for x0 in ([0.3, 1.9], [3.9, 0.4], [1.0, 1.0], [1.0 + 1e-9, 1.0])]
+    for f in fits[1:]:
+        assert f.point == pytest.approx(fits[0].point, rel=1e-9)
+        assert f.identifiability.null_directions[0] == pytest.approx(fits[0].identifiability.null_directions[0],
+                                                                     rel=1e-9)
+    f = fits[0]
+    assert "NOT converged" not in f.canonical
+    # the canonical point: the tangent is orthogonal to the line from the box centre, in box-scaled coordinates
+    a, b = f.point
+    w, c = np.array([3.9, 1.9]), np.array([2.05, 1.05])
+    tangent = np.array([a, -b]) / w  # along a·b = const, in coordinates scaled by the box widths
+    assert tangent @ ((np.array([a, b]) - c) / w) == pytest.approx(0.0, abs=1e-9)
+    assert f.identifiability.null_directions[0][int(np.argmax(np.abs(f.identifiability.null_directions[0])))] == 1.0
+
+
+def test_a_linearised_family_that_leaves_the_solutions_says_so():
+    f = _product_fit([1.0, 1.0])
+    fam = f.family
+    assert fam.kind is fitting.FamilyKind.LINEARISED
+    assert not fam.holds and max(fam.end_chi2) > fitting.FAMILY_CHI2  # the hyperbola curves away from its tangent
+    assert all(e.family_range is None for e in f.estimates)  # no range claimed from a failed linearisation
+
+
+def test_orient_is_invariant_to_scale_and_sign():
+    v = np.array([0.2, -3.0, 1e-14, 1.0])
+    assert fitting.orient(v) == pytest.approx([-0.2 / 3, 1.0, 0.0, -1 / 3])
+    np.testing.assert_allclose(fitting.orient(-7.0 * v), fitting.orient(v), rtol=1e-15)

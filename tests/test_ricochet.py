@@ -111,3 +111,45 @@ def test_position_fit_finds_the_global_minimum_past_the_kink():
             x, _ = rc.simulate_series(p, s.synthetic, np.random.default_rng(seed))
             fit = rc.fit_positions(p, x)
             assert abs(fit.point[0] - s.synthetic.nu) < 0.03, (s.id, seed)
+
+
+def _smoked_marble():
+    p = api.load("roze-ricochets").params
+    s = p.surfaces[0]
+    x, _ = rc.simulate_series(p, s.synthetic, np.random.default_rng(7))
+    return p, x, rc.fit_positions(p, x)
+
+
+def test_positions_alone_give_an_exact_family_of_launches():
+    p, x, fx = _smoked_marble()
+    fp = rc.fit_physical_positions(p, x, fx)
+    nu, A, u = fx.point
+    fam = fp.family
+    assert fam.kind.value == "exact" and fam.holds and fam.along == "alpha0"
+    assert fp.identifiability.rank == 3 and fp.estimate("nu").identifiable
+    assert not any(fp.estimate(n).identifiable for n in ("f", "a0", "alpha0"))
+    a_lo, a_hi = fam.ranges[3]
+    assert fam.ranges[1] == pytest.approx((u / np.tan(a_hi), u / np.tan(a_lo)), rel=1e-12)
+    assert fam.ranges[1][1] == pytest.approx(rc.PHYSICAL_BOUNDS[1][1])  # f reaches its bound: f is free
+    # every launch of the family makes the same imprints, through the ricochet model itself (not the closed form)
+    base = None
+    for al in np.linspace(a_lo, a_hi, 7):
+        f, a0 = plane.spinless_launch(A, u, p.g, al)
+        r = plane.ricochet(a0, al, 0.0, p.R, p.k, f, nu, p.g, x.size - 1)
+        rss = float(np.sum((r.imprints - x) ** 2))
+        base = rss if base is None else base
+        assert rss == pytest.approx(base, rel=1e-9)
+    # the canonical point is the slowest launch, α0 = π/4, where the family's tangent is (0, −2u, 0, 1)
+    assert fp.point[3] == pytest.approx(np.pi / 4, rel=1e-15)
+    (null,) = fp.identifiability.null_directions
+    t = np.array([0.0, -2 * u, 0.0, 1.0])
+    assert abs(np.dot(null, t)) / (np.linalg.norm(null) * np.linalg.norm(t)) == pytest.approx(1.0, abs=1e-12)
+
+
+def test_positions_only_report_does_not_move_with_one_ulp_of_data():
+    p, x, fx = _smoked_marble()
+    xp = np.nextafter(x, np.inf) * (x != 0)
+    fa, fb = rc.fit_physical_positions(p, x, fx), rc.fit_physical_positions(p, xp, rc.fit_positions(p, xp))
+    assert fb.point == pytest.approx(fa.point, rel=1e-10)
+    assert fb.family.ranges[1] == pytest.approx(fa.family.ranges[1], rel=1e-10)
+    assert np.allclose(fb.identifiability.null_directions, fa.identifiability.null_directions, rtol=0, atol=1e-10)

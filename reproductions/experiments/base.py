@@ -17,7 +17,7 @@ import numpy as np
 
 from ..config import Experiment, Node, Printed
 from ..errors import InputError
-from ..fitting import FitResult
+from ..fitting import Family, FitResult
 
 __all__ = [
     "Computed", "FigureSpec", "FitRow", "Layer", "Reproduction", "Row", "compare", "fit_rows", "modern_rows",
@@ -162,10 +162,15 @@ def fit_rows(fit: FitResult, labels: dict[str, str], method: str, note: str = ""
                 "no residual degree of freedom and no sigma: no uncertainty claimed"
             out.append(FitRow(name, est.value, est.stderr, est.ci95, method, True, n.strip()))
         else:
-            rng = est.family_range
-            span = f"any value in [{rng[0]:.4g}, {rng[1]:.4g}] fits" if rng else "not determined"
+            rng, fam = est.family_range, fit.family
+            if rng is not None and fam is not None:
+                span = f"any value in [{rng[0]:.4g}, {rng[1]:.4g}] fits ({fam.kind.value} family: {fam.label})"
+            elif fam is not None:
+                span = f"range not determined ({fam.label})"
+            else:
+                span = "not determined"
             out.append(FitRow(name, None, None, (None, None), method, False,
-                              f"not identifiable: {span} (rank {fit.identifiability.rank} of {len(fit.names)})",
+                              f"not identifiable: {span}; rank {fit.identifiability.rank} of {len(fit.names)}",
                               rng))
     for comb in fit.combinations if only is None else ():
         terms = " + ".join(
@@ -188,9 +193,18 @@ def identifiability_report(fit: FitResult, labels: dict[str, str], data: str) ->
         "condition_number": ident.condition_number,
         "null_directions": [list(v) for v in ident.null_directions],
         "identified_combinations": [list(c.coefficients) for c in fit.combinations],
-        "family_of_solutions": None if fit.family is None else [list(fit.family[0]), list(fit.family[1])],
+        "point": list(fit.point),
+        "canonical": fit.canonical,
+        "family_of_solutions": None if fit.family is None else family_report(fit.family),
         "noise": fit.noise,
     }
+
+
+def family_report(fam: Family) -> dict:
+    """A family of solutions for ``summary.json``: how it was obtained, its ends, the ranges, the end check."""
+    return {"kind": fam.kind.value, "along": fam.along, "ends": [list(fam.ends[0]), list(fam.ends[1])],
+            "ranges": [None if r is None else list(r) for r in fam.ranges], "end_chi2": list(fam.end_chi2),
+            "holds": fam.holds, "label": fam.label}
 
 
 def read_ball(node: Node, with_mass: bool = False) -> tuple[float, ...]:

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..config import Experiment, Node
 from ..errors import InputError
-from ..fitting import FitResult, least_squares_fit
+from ..fitting import FAMILY_CHI2, Family, FamilyKind, FitResult, analyse, least_squares_fit
 from ..mechanics import plane, reference
 from .base import (
     Computed,
@@ -151,6 +151,20 @@ def load_series(s: Surface) -> tuple[np.ndarray, np.ndarray | None]:
 
 
 # ---- estimators ---------------------------------------------------------------------------------------------
+def _positions_jac(th: np.ndarray, k: float, n: int) -> np.ndarray:
+    """∂/∂(ν, A, u) of the imprint positions x_1 … x_n of ``plane.ricochet_ranges_spinless`` (analytic)."""
+    nu, A, u = th
+    j = np.arange(n)
+    S = np.cumsum(nu**j)
+    dS = np.cumsum(j * nu ** np.maximum(j - 1, 0))
+    slide = 1 - u * (1 + nu) * S > k / (1 + k)
+    c = np.where(slide, 1 - u * (1 + nu) * S, k / (1 + k))
+    dc_dnu = np.where(slide, -u * (S + (1 + nu) * dS), 0.0)
+    dc_du = np.where(slide, -(1 + nu) * S, 0.0)
+    w = nu ** (j + 1)
+    return np.cumsum(np.c_[A * ((j + 1) * nu**j * c + w * dc_dnu), w * c, A * w * dc_du], axis=0)
+
+
 def fit_positions(p: Params, x: np.ndarray) -> FitResult:
     """Fit (ν, A, u) of the spinless ricochet closed form to imprint positions measured from the first imprint.
 
@@ -159,21 +173,12 @@ def fit_positions(p: Params, x: np.ndarray) -> FitResult:
     starts from the best point of a (ν, u) grid, A solved exactly there since the positions are linear in A.
     """
     n = x.size - 1
-    j = np.arange(n)
 
     def res(th: np.ndarray) -> np.ndarray:
         return np.cumsum(plane.ricochet_ranges_spinless(th[0], th[1], th[2], p.k, n)) - x[1:]
 
     def jac(th: np.ndarray) -> np.ndarray:
-        nu, A, u = th
-        S = np.cumsum(nu**j)
-        dS = np.cumsum(j * nu ** np.maximum(j - 1, 0))
-        slide = 1 - u * (1 + nu) * S > p.k / (1 + p.k)
-        c = np.where(slide, 1 - u * (1 + nu) * S, p.k / (1 + p.k))
-        dc_dnu = np.where(slide, -u * (S + (1 + nu) * dS), 0.0)
-        dc_du = np.where(slide, -(1 + nu) * S, 0.0)
-        w = nu ** (j + 1)
-        return np.cumsum(np.c_[A * ((j + 1) * nu**j * c + w * dc_dnu), w * c, A * w * dc_du], axis=0)
+        return _positions_jac(th, p.k, n)
 
     # A enters linearly: profile it out on a (ν, u) grid to find the basin of the global minimum, then polish
     nu_g, u_g = np.meshgrid(np.linspace(0.05, 1.0, 96), np.linspace(0.0, 1.0, 101), indexing="ij")
@@ -188,6 +193,66 @@ def fit_positions(p: Params, x: np.ndarray) -> FitResult:
 def _sigma_hat(fit: FitResult) -> float:
     """The noise estimated from a fit's residuals, s = √(RSS/(m − rank))."""
     return fit.residual_rms * math.sqrt(fit.n_data / max(fit.dof, 1))
+
+
+PHYSICAL = ("nu", "f", "a0", "alpha0")
+PHYSICAL_BOUNDS = ((1e-3, 0.0, 1e-3, 1e-3), (1.0, 2.0, 50.0, 1.5))  # ν, f, a0 (m/s), α0 (rad)
+
+
+def fit_physical_positions(p: Params, x: np.ndarray, start: FitResult) -> FitResult:
+    """The physical parameters (ν, f, a0, α0) that imprint positions alone determine, from the fit of (ν, A, u).
+
+    A spinless ball's ranges depend on (ν, A, u) only (``plane.ricochet_ranges_spinless``), so the solutions
+    form the exact family f = u / tan α0, a0 = √(gA / sin 2α0) (``plane.spinless_launch``) over the α0 that keep
+    (f, a0, α0) within ``PHYSICAL_BOUNDS``. Its canonical point is the slowest launch, α0 = π/4 (or the nearest
+    admissible α0). Nothing here depends on where an optimiser stops: the family is a closed form of the
+    well-conditioned (ν, A, u). Residuals are scaled by the noise the (ν, A, u) fit estimates.
+    Requires p0_fit = 0 (``fit_physical`` handles a given spin).
+    """
+    if p.p0_fit != 0.0:
+        raise ValueError("the closed-form family holds for a ball thrown without spin (p0_fit = 0)")
+    nu, A, u = start.point
+    n = x.size - 1
+    lo, hi = PHYSICAL_BOUNDS
+    c = p.g * A / hi[2] ** 2  # a0 ≤ a0_max  ⇔  sin 2α0 ≥ gA / a0_max²  (a0 ≥ lo[2] holds: gA ≥ g·1e-6 > lo[2]²)
+    if c > 1.0:
+        raise ValueError(f"no launch within a0 ≤ {hi[2]:g} m/s makes ranges this long (A = {A:g} m)")
+    a_lo = max(lo[3], math.atan(u / hi[1]), 0.5 * math.asin(c))  # f = u / tan α0 ≤ f_max
+    a_hi = min(hi[3], 0.5 * (math.pi - math.asin(c)))
+    alphas = np.array([a_lo, a_hi, min(max(math.pi / 4, a_lo), a_hi)])
+    f_, a0_ = plane.spinless_launch(A, u, p.g, alphas)
+    pts = [np.array([nu, f_[i], a0_[i], alphas[i]]) for i in range(3)]
+    sx = max(_sigma_hat(start), 1e-9)
+
+    def phi(th: np.ndarray) -> np.ndarray:
+        _, f, a0, al = th
+        return np.array([th[0], a0**2 * math.sin(2 * al) / p.g, f * math.tan(al)])
+
+    def res(th: np.ndarray) -> np.ndarray:
+        ph = phi(th)
+        return (np.cumsum(plane.ricochet_ranges_spinless(ph[0], ph[1], ph[2], p.k, n)) - x[1:]) / sx
+
+    def jac(th: np.ndarray) -> np.ndarray:  # chain rule through A = a0² sin 2α0/g, u = f tan α0
+        _, f, a0, al = th
+        D = np.array([[1.0, 0.0, 0.0, 0.0],
+                      [0.0, 0.0, 2 * a0 * math.sin(2 * al) / p.g, 2 * a0**2 * math.cos(2 * al) / p.g],
+                      [0.0, math.tan(al), 0.0, f / math.cos(al) ** 2]])
+        return _positions_jac(phi(th), p.k, n) @ D / sx
+
+    def res_model(th: np.ndarray) -> np.ndarray:  # the check: the ricochet model itself, not the closed form
+        r = plane.ricochet(th[2], th[3], 0.0, p.R, p.k, th[1], th[0], p.g, n)
+        return (r.imprints[1:] - x[1:]) / sx
+
+    rss = float(np.sum(res_model(pts[2]) ** 2))
+    d = tuple(float(np.sum(res_model(e) ** 2) - rss) for e in pts[:2])
+    ranges = (None, (float(min(f_[:2])), float(max(f_[:2]))),
+              (float(min(a0_)), float(max(a0_))), (float(a_lo), float(a_hi)))
+    fam = Family(FamilyKind.EXACT, "alpha0", (tuple(map(float, pts[0])), tuple(map(float, pts[1]))), ranges, d,
+                 max(d) <= FAMILY_CHI2,
+                 f"f = {u:.4g}/tan α0 and a0 = √({p.g * A:.4g} m²/s²/sin 2α0) for α0 in [{a_lo:.4g}, {a_hi:.4g}] rad "
+                 f"(bounds f ≤ {hi[1]:g}, a0 ≤ {hi[2]:g} m/s, α0 ≤ {hi[3]:g} rad)")
+    return analyse(res, pts[2], PHYSICAL, PHYSICAL_BOUNDS, sigma=1.0, jac=jac, family=fam,
+                   canonical="the slowest launch of the family (α0 = π/4 if admissible)")
 
 
 def fit_physical(p: Params, x: np.ndarray, t: np.ndarray | None, start: FitResult) -> FitResult:
@@ -216,8 +281,7 @@ def fit_physical(p: Params, x: np.ndarray, t: np.ndarray | None, start: FitResul
             return out
         return np.concatenate([out, (np.cumsum(r.times) - t[1:]) / st])
 
-    return least_squares_fit(res, x0, ["nu", "f", "a0", "alpha0"], ([1e-3, 0.0, 1e-3, 1e-3], [1.0, 2.0, 50.0, 1.5]),
-                             sigma=1.0)
+    return least_squares_fit(res, x0, PHYSICAL, PHYSICAL_BOUNDS, sigma=1.0)
 
 
 def fit_times(p: Params, t: np.ndarray) -> FitResult:
@@ -338,7 +402,7 @@ def run(exp: Experiment) -> Reproduction:
         ident.append(identifiability_report(fx, labels, f"imprint positions, closed form, {s.id}"))
         # f from ranges alone: the physical parameters (ν, f, a0, α0) against the positions
         phys = {"nu": "ν", "f": "f", "a0": "a0", "alpha0": "α0"}
-        fp = fit_physical(p, x, None, fx)
+        fp = fit_physical_positions(p, x, fx) if p.p0_fit == 0.0 else fit_physical(p, x, None, fx)
         ident.append(identifiability_report(fp, phys, f"imprint positions, physical parameters, {s.id}"))
         fits += fit_rows(fp, {"f": f"f [{s.id}], positions only"}, "least squares, physical parameters",
                          "f enters the ranges only through f tan α0", only=("f",))

@@ -38,6 +38,7 @@ __all__ = [
     "ricochet",
     "ricochet_ranges_spinless",
     "slides_throughout",
+    "spinless_launch",
 ]
 
 METHODS = ("auto", "exact", "resal")
@@ -174,3 +175,14 @@ def ricochet_ranges_spinless(nu: ArrayLike, A: ArrayLike, u: ArrayLike, k: Array
     S = np.cumsum(nu_ ** j, axis=-1) if n else np.zeros((*nu_.shape[:-1], 0))
     c = np.maximum(1 - u_ * (1 + nu_) * S, k_ / (1 + k_))
     return A_ * nu_ ** (j + 1) * c
+
+
+def spinless_launch(A: ArrayLike, u: ArrayLike, g: ArrayLike, alpha0: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """(f, a0) of the launches at angle α0 whose spinless ricochets have the combinations (A, u) (§III n°9).
+
+    The inverse of A = a0² sin 2α0 / g and u = f tan α0 (``ricochet_ranges_spinless``): f = u / tan α0 and
+    a0 = √(gA / sin 2α0). Every α0 in (0, π/2) gives the same ranges: this is the exact family of solutions of
+    a fit of positions alone; a0 is smallest at α0 = π/4.
+    """
+    A, u, g, alpha0 = _arrays(A, u, g, alpha0)
+    return u / np.tan(alpha0), np.sqrt(g * A / np.sin(2 * alpha0))
