@@ -10,7 +10,7 @@ from typing import TypeVar
 from .config import Experiment, load_experiment
 from .errors import InputError
 from .experiments import KINDS
-from .experiments.base import Reproduction
+from .results import Reproduction
 
 __all__ = ["config_dir", "experiment_ids", "list_experiments", "load", "parallel_map", "run"]
 
@@ -38,13 +38,13 @@ def load(name_or_path: str) -> Experiment:
     if p.suffix in (".yaml", ".yml") or p.is_file():
         if not p.is_file():
             raise InputError(name_or_path, "no such experiment file")
-        return load_experiment(p)
+        return load_experiment(p, KINDS)
     ids = experiment_ids()
     if name_or_path not in ids:
         raise InputError(f"experiment '{name_or_path}'",
                          f"unknown experiment id (expected one of: {', '.join(ids) or 'none found'}, "
                          "or the path of a YAML file)")
-    return load_experiment(config_dir() / f"{name_or_path}.yaml")
+    return load_experiment(config_dir() / f"{name_or_path}.yaml", KINDS)
 
 
 def list_experiments() -> list[Experiment]:

@@ -13,17 +13,17 @@ from __future__ import annotations
 import hashlib
 import math
 import re
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 import yaml
 
 from .errors import InputError
 
-__all__ = ["Experiment", "Node", "Printed", "Source", "load_experiment", "parse_number"]
+__all__ = ["Experiment", "Kind", "Node", "Printed", "Source", "load_experiment", "parse_number"]
 
 _FRACTION = re.compile(r"^\s*([+-]?\d+)\s*/\s*(\d+)\s*$")
 
@@ -287,10 +287,19 @@ def _printed(node: Node, quantities: tuple[str, ...]) -> Printed:
     return Printed(pid, computed, quantity, source, value, text, tol, rule, node.where(), formula)
 
 
-def load_experiment(path: str | Path) -> Experiment:
-    """Read and validate one experiment file; raises ``InputError`` naming file:line on any problem."""
-    from .experiments import KINDS  # the kinds carry their own schema; imported late to keep layers apart
+class Kind(Protocol):
+    """What an experiment kind offers the loader: its schema (``parse``), the quantities it computes and the
+    modern values it can stand beside. ``reproductions.experiments.KINDS`` maps names to such modules."""
 
+    MODERN: tuple[str, ...]
+
+    def parse(self, node: Node, base: Path) -> Any: ...
+
+
+def load_experiment(path: str | Path, kinds: Mapping[str, Any]) -> Experiment:
+    """Read and validate one experiment file of one of ``kinds`` (name → ``Kind``); raises ``InputError`` naming
+    file:line on any problem. The kinds are handed in, so that configuration never imports the experiments."""
+    KINDS = kinds
     p = Path(path)
     file = str(path)
     try:

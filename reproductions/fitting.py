@@ -20,6 +20,7 @@ sigma, no uncertainty is claimed.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from enum import Enum
@@ -27,7 +28,7 @@ from enum import Enum
 import numpy as np
 from scipy import optimize, stats
 
-from .mechanics import impact
+from .mechanics import impact, plane
 
 __all__ = [
     "Combination",
@@ -38,7 +39,11 @@ __all__ = [
     "Identifiability",
     "analyse",
     "fit_direct_impact",
+    "fit_physical",
+    "fit_physical_positions",
+    "fit_positions",
     "fit_rebound",
+    "fit_times",
     "least_squares_fit",
     "orient",
 ]
@@ -414,3 +419,153 @@ def fit_rebound(V0: np.ndarray, V1: np.ndarray, sigma: float | None = None) -> F
         return (2.0 * V0 / (1.0 + theta[0]) ** 2)[:, None]  # d/dε of −(1 − ε)/(1 + ε)·V0
 
     return least_squares_fit(res, [0.5], ["eps"], ([0.0], [1.0]), sigma, jac)
+
+
+# ---- §III ricochets: ν (and f where the data determine it) from imprint positions and impact instants ----------
+def _positions_jac(th: np.ndarray, k: float, n: int) -> np.ndarray:
+    """∂/∂(ν, A, u) of the imprint positions x_1 … x_n of ``plane.ricochet_ranges_spinless`` (analytic)."""
+    nu, A, u = th
+    j = np.arange(n)
+    S = np.cumsum(nu**j)
+    dS = np.cumsum(j * nu ** np.maximum(j - 1, 0))
+    slide = 1 - u * (1 + nu) * S > k / (1 + k)
+    c = np.where(slide, 1 - u * (1 + nu) * S, k / (1 + k))
+    dc_dnu = np.where(slide, -u * (S + (1 + nu) * dS), 0.0)
+    dc_du = np.where(slide, -(1 + nu) * S, 0.0)
+    w = nu ** (j + 1)
+    return np.cumsum(np.c_[A * ((j + 1) * nu**j * c + w * dc_dnu), w * c, A * w * dc_du], axis=0)
+
+
+def fit_positions(x: np.ndarray, *, k: float) -> FitResult:
+    """Fit (ν, A, u) of the spinless ricochet closed form to imprint positions measured from the first imprint.
+
+    A = 2a0² sin α0 cos α0/g and u = f tan α0 are all that the ranges depend on
+    (``plane.ricochet_ranges_spinless``); the kink where the slip stops makes the cost multimodal, so the fit
+    starts from the best point of a (ν, u) grid, A solved exactly there since the positions are linear in A.
+    """
+    n = x.size - 1
+
+    def res(th: np.ndarray) -> np.ndarray:
+        return np.cumsum(plane.ricochet_ranges_spinless(th[0], th[1], th[2], k, n)) - x[1:]
+
+    def jac(th: np.ndarray) -> np.ndarray:
+        return _positions_jac(th, k, n)
+
+    # A enters linearly: profile it out on a (ν, u) grid to find the basin of the global minimum, then polish
+    nu_g, u_g = np.meshgrid(np.linspace(0.05, 1.0, 96), np.linspace(0.0, 1.0, 101), indexing="ij")
+    shape = plane.ricochet_ranges_spinless(nu_g, 1.0, u_g, k, n).cumsum(axis=-1)
+    A_g = np.einsum("...j,j->...", shape, x[1:]) / np.maximum(np.einsum("...j,...j->...", shape, shape), 1e-300)
+    cost = np.sum((A_g[..., None] * shape - x[1:]) ** 2, axis=-1)
+    i = np.unravel_index(np.argmin(cost), cost.shape)
+    return least_squares_fit(res, [nu_g[i], A_g[i], u_g[i]], ["nu", "A", "u"],
+                             ([1e-3, 1e-6, 0.0], [1.0, 100.0, 5.0]), jac=jac)
+
+
+def _sigma_hat(fit: FitResult) -> float:
+    """The noise estimated from a fit's residuals, s = √(RSS/(m − rank))."""
+    return fit.residual_rms * math.sqrt(fit.n_data / max(fit.dof, 1))
+
+
+PHYSICAL = ("nu", "f", "a0", "alpha0")
+PHYSICAL_BOUNDS = ((1e-3, 0.0, 1e-3, 1e-3), (1.0, 2.0, 50.0, 1.5))  # ν, f, a0 (m/s), α0 (rad)
+
+
+def fit_physical_positions(x: np.ndarray, start: FitResult, *, R: float, k: float, g: float) -> FitResult:
+    """The physical parameters (ν, f, a0, α0) that imprint positions alone determine, from the fit of (ν, A, u).
+
+    A spinless ball's ranges depend on (ν, A, u) only (``plane.ricochet_ranges_spinless``), so the solutions
+    form the exact family f = u / tan α0, a0 = √(gA / sin 2α0) (``plane.spinless_launch``) over the α0 that keep
+    (f, a0, α0) within ``PHYSICAL_BOUNDS``. Its canonical point is the slowest launch, α0 = π/4 (or the nearest
+    admissible α0). Nothing here depends on where an optimiser stops: the family is a closed form of the
+    well-conditioned (ν, A, u). Residuals are scaled by the noise the (ν, A, u) fit estimates.
+    For a ball thrown without spin (``fit_physical`` takes a given spin).
+    """
+    nu, A, u = start.point
+    n = x.size - 1
+    lo, hi = PHYSICAL_BOUNDS
+    c = g * A / hi[2] ** 2  # a0 ≤ a0_max  ⇔  sin 2α0 ≥ gA / a0_max²  (a0 ≥ lo[2] holds: gA ≥ g·1e-6 > lo[2]²)
+    if c > 1.0:
+        raise ValueError(f"no launch within a0 ≤ {hi[2]:g} m/s makes ranges this long (A = {A:g} m)")
+    a_lo = max(lo[3], math.atan(u / hi[1]), 0.5 * math.asin(c))  # f = u / tan α0 ≤ f_max
+    a_hi = min(hi[3], 0.5 * (math.pi - math.asin(c)))
+    alphas = np.array([a_lo, a_hi, min(max(math.pi / 4, a_lo), a_hi)])
+    f_, a0_ = plane.spinless_launch(A, u, g, alphas)
+    pts = [np.array([nu, f_[i], a0_[i], alphas[i]]) for i in range(3)]
+    sx = max(_sigma_hat(start), 1e-9)
+
+    def phi(th: np.ndarray) -> np.ndarray:
+        _, f, a0, al = th
+        return np.array([th[0], a0**2 * math.sin(2 * al) / g, f * math.tan(al)])
+
+    def res(th: np.ndarray) -> np.ndarray:
+        ph = phi(th)
+        return (np.cumsum(plane.ricochet_ranges_spinless(ph[0], ph[1], ph[2], k, n)) - x[1:]) / sx
+
+    def jac(th: np.ndarray) -> np.ndarray:  # chain rule through A = a0² sin 2α0/g, u = f tan α0
+        _, f, a0, al = th
+        D = np.array([[1.0, 0.0, 0.0, 0.0],
+                      [0.0, 0.0, 2 * a0 * math.sin(2 * al) / g, 2 * a0**2 * math.cos(2 * al) / g],
+                      [0.0, math.tan(al), 0.0, f / math.cos(al) ** 2]])
+        return _positions_jac(phi(th), k, n) @ D / sx
+
+    def res_model(th: np.ndarray) -> np.ndarray:  # the check: the ricochet model itself, not the closed form
+        r = plane.ricochet(th[2], th[3], 0.0, R, k, th[1], th[0], g, n)
+        return (r.imprints[1:] - x[1:]) / sx
+
+    rss = float(np.sum(res_model(pts[2]) ** 2))
+    d = tuple(float(np.sum(res_model(e) ** 2) - rss) for e in pts[:2])
+    ranges = (None, (float(min(f_[:2])), float(max(f_[:2]))),
+              (float(min(a0_)), float(max(a0_))), (float(a_lo), float(a_hi)))
+    fam = Family(FamilyKind.EXACT, "alpha0", (tuple(map(float, pts[0])), tuple(map(float, pts[1]))), ranges, d,
+                 max(d) <= FAMILY_CHI2,
+                 f"f = {u:.4g}/tan α0 and a0 = √({g * A:.4g} m²/s²/sin 2α0) for α0 in [{a_lo:.4g}, {a_hi:.4g}] rad "
+                 f"(bounds f ≤ {hi[1]:g}, a0 ≤ {hi[2]:g} m/s, α0 ≤ {hi[3]:g} rad)")
+    return analyse(res, pts[2], PHYSICAL, PHYSICAL_BOUNDS, sigma=1.0, jac=jac, family=fam,
+                   canonical="the slowest launch of the family (α0 = π/4 if admissible)")
+
+
+def fit_physical(x: np.ndarray, t: np.ndarray | None, start: FitResult, *, R: float, k: float, g: float,
+                 p0: float = 0.0) -> FitResult:
+    """Fit the physical parameters (ν, f, a0, α0) of ``plane.ricochet`` to the positions, and to the impact
+    instants too when given: the identifiability report then says whether f is determined.
+
+    Starts from the closed-form fit (at α0 = 0.3 rad, any point of its family, or at the α0 the instants
+    give); residuals are scaled by the noise each series' own fit estimates, so metres and seconds mix.
+    """
+    nu, A, u = start.point
+    alpha = 0.3
+    st = None
+    if t is not None:  # the instants give the normal speed, hence the angle: start near the answer
+        ft = fit_times(t, g=g)
+        st = max(_sigma_hat(ft), 1e-9)
+        zeta_in = ft.point[1] / nu
+        alpha = math.atan2(zeta_in, A * g / (2 * zeta_in))
+    x0 = [nu, u / math.tan(alpha), math.sqrt(A * g / (2 * math.sin(alpha) * math.cos(alpha))), alpha]
+    n = x.size - 1
+    sx = max(_sigma_hat(start), 1e-9)
+
+    def res(th: np.ndarray) -> np.ndarray:
+        r = plane.ricochet(th[2], th[3], p0, R, k, th[1], th[0], g, n)
+        out = (r.imprints[1:] - x[1:]) / sx
+        if t is None:
+            return out
+        return np.concatenate([out, (np.cumsum(r.times) - t[1:]) / st])
+
+    return least_squares_fit(res, x0, PHYSICAL, PHYSICAL_BOUNDS, sigma=1.0)
+
+
+def fit_times(t: np.ndarray, *, g: float) -> FitResult:
+    """Fit (ν, ζ1) to impact instants (the acoustic method): flights last T_j = 2ν^j ζ1/g (§III n°9)."""
+    T = np.diff(t)
+    nu0 = float(np.clip(np.median(T[1:] / T[:-1]), 0.05, 0.99))
+    j = np.arange(T.size)
+
+    def res(th: np.ndarray) -> np.ndarray:
+        return np.cumsum(2 * th[1] * th[0] ** j / g) - t[1:]
+
+    def jac(th: np.ndarray) -> np.ndarray:
+        dnu = np.cumsum(2 * th[1] * j * th[0] ** np.maximum(j - 1, 0) / g)
+        dz = np.cumsum(2 * th[0] ** j / g)
+        return np.c_[dnu, dz]
+
+    return least_squares_fit(res, [nu0, g * T[0] / 2], ["nu", "zeta1"], ([1e-3, 1e-6], [1.0, 100.0]), jac=jac)

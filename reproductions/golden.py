@@ -56,12 +56,13 @@ def flatten(s: dict[str, Any]) -> dict[str, tuple[Any, float, float, str]]:
         if r["printed"] is None and r["tolerance"] is not None:
             out[f"rows.{r['id']}.computed"] = (r["computed"], TOLERANCES["closed-form"][0], float(r["tolerance"]),
                                                "formula")
-    for i, f in enumerate(s["fits"]):
-        key = f"fits.{i}.{f['parameter']}"
+    for f in s["fits"]:
+        key = f"fits.{f['id']}"
         for k in ("value", "stderr", "ci95", "family_range"):
             out[f"{key}.{k}"] = _entry(f[k], "fit")
         out[f"{key}.identifiable"] = _entry(f["identifiable"], "code")
-    for j, i in enumerate(s.get("identifiability", [])):
+    for i in s.get("identifiability", []):
+        j = i["id"]
         out[f"identifiability.{j}.rank"] = _entry(i["rank"], "code")
         out[f"identifiability.{j}.null_directions"] = _entry(i["null_directions"], "direction")
         if i["rank"] < len(i["parameters"]):

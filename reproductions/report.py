@@ -23,7 +23,7 @@ from typing import Any
 
 from . import __version__
 from .errors import InputError
-from .experiments.base import FigureSpec, Reproduction
+from .results import FigureSpec, Reproduction
 
 __all__ = ["provenance", "summary", "write_index", "write_reproduction"]
 

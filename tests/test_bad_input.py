@@ -19,9 +19,9 @@ import yaml
 from typer.testing import CliRunner, Result
 
 from cli.main import app
-from reproductions.config import load_experiment
+from reproductions import config
 from reproductions.errors import InputError
-from reproductions.experiments import pendulum
+from reproductions.experiments import KINDS, pendulum
 
 CONFIGS = Path(__file__).resolve().parent.parent / "configs"
 KNOWN_IDS = sorted(p.stem for p in CONFIGS.glob("*.yaml"))
@@ -112,6 +112,10 @@ def results(baseline: Path, tmp_path: Path) -> Path:
     out = tmp_path / "res"
     shutil.copytree(baseline, out)
     return out
+
+
+def load_experiment(path):
+    return config.load_experiment(path, KINDS)
 
 
 # -- bad YAML configs: load_experiment and the CLI ----------------------------------------------------------

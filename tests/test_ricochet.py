@@ -5,7 +5,7 @@ import pytest
 from typer.testing import CliRunner
 
 from cli.main import app
-from reproductions import api
+from reproductions import api, fitting
 from reproductions.errors import InputError
 from reproductions.experiments import ricochet as rc
 from reproductions.mechanics import plane
@@ -109,7 +109,7 @@ def test_position_fit_finds_the_global_minimum_past_the_kink():
     for seed in range(5):
         for s in p.surfaces:
             x, _ = rc.simulate_series(p, s.synthetic, np.random.default_rng(seed))
-            fit = rc.fit_positions(p, x)
+            fit = fitting.fit_positions(x, k=p.k)
             assert abs(fit.point[0] - s.synthetic.nu) < 0.03, (s.id, seed)
 
 
@@ -117,12 +117,12 @@ def _smoked_marble():
     p = api.load("roze-ricochets").params
     s = p.surfaces[0]
     x, _ = rc.simulate_series(p, s.synthetic, np.random.default_rng(7))
-    return p, x, rc.fit_positions(p, x)
+    return p, x, fitting.fit_positions(x, k=p.k)
 
 
 def test_positions_alone_give_an_exact_family_of_launches():
     p, x, fx = _smoked_marble()
-    fp = rc.fit_physical_positions(p, x, fx)
+    fp = fitting.fit_physical_positions(x, fx, R=p.R, k=p.k, g=p.g)
     nu, A, u = fx.point
     fam = fp.family
     assert fam.kind.value == "exact" and fam.holds and fam.along == "alpha0"
@@ -130,7 +130,7 @@ def test_positions_alone_give_an_exact_family_of_launches():
     assert not any(fp.estimate(n).identifiable for n in ("f", "a0", "alpha0"))
     a_lo, a_hi = fam.ranges[3]
     assert fam.ranges[1] == pytest.approx((u / np.tan(a_hi), u / np.tan(a_lo)), rel=1e-12)
-    assert fam.ranges[1][1] == pytest.approx(rc.PHYSICAL_BOUNDS[1][1])  # f reaches its bound: f is free
+    assert fam.ranges[1][1] == pytest.approx(fitting.PHYSICAL_BOUNDS[1][1])  # f reaches its bound: f is free
     # every launch of the family makes the same imprints, through the ricochet model itself (not the closed form)
     base = None
     for al in np.linspace(a_lo, a_hi, 7):
@@ -149,7 +149,9 @@ def test_positions_alone_give_an_exact_family_of_launches():
 def test_positions_only_report_does_not_move_with_one_ulp_of_data():
     p, x, fx = _smoked_marble()
     xp = np.nextafter(x, np.inf) * (x != 0)
-    fa, fb = rc.fit_physical_positions(p, x, fx), rc.fit_physical_positions(p, xp, rc.fit_positions(p, xp))
+    kw = {"R": p.R, "k": p.k, "g": p.g}
+    fa = fitting.fit_physical_positions(x, fx, **kw)
+    fb = fitting.fit_physical_positions(xp, fitting.fit_positions(xp, k=p.k), **kw)
     assert fb.point == pytest.approx(fa.point, rel=1e-10)
     assert fb.family.ranges[1] == pytest.approx(fa.family.ranges[1], rel=1e-10)
     assert np.allclose(fb.identifiability.null_directions, fa.identifiability.null_directions, rtol=0, atol=1e-10)

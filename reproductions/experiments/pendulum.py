@@ -174,7 +174,7 @@ def run(exp: Experiment) -> Reproduction:
     }
     labels = {"eps": f"ε ({sb})", "epsp": f"ε′ ({st})"}
     note = p.sigma_note if p.sigma is not None else ""
-    fits = fit_rows(fit, labels, "least squares on eqs (8), bounds [0, 1]", note)
+    fits = fit_rows(fit, "trials", labels, "least squares on eqs (8), bounds [0, 1]", note)
     e_data = p.ratio_p - p.ratio
     modern = modern_rows(exp.modern, {
         "e_tip": (e_data, "Newton's e = (V1′ − V1)/V0 of Coriolis's cue–ball data"),
@@ -184,7 +184,7 @@ def run(exp: Experiment) -> Reproduction:
     figure = _figure(p, fit, comb, mu, epsp_given_eps, eps_given_epsp)
     return Reproduction(exp, rows_for(exp, computed), tuple(fits), (figure,), modern,
                         data_note="" if p.series is None else data,
-                        identifiability=(identifiability_report(fit, labels, data),))
+                        identifiability=(identifiability_report(fit, "trials", labels, data),))
 
 
 def _figure(p: Params, fit: FitResult, comb: float, mu: float, paper_epsp: float, premise_eps: float) -> FigureSpec:

@@ -163,13 +163,13 @@ def run(exp: Experiment) -> Reproduction:
     fits: list[FitRow] = []
     if p.half_unit is not None:
         lo, hi = (float(impact.eps_from_velocity_ratio(_speed_ratio(p, p.value + s * p.half_unit))) for s in (1, -1))
-        fits.append(FitRow("ε", eps, None, (None, None), "inverse of eq. (9)", True,
+        fits.append(FitRow("printed-ratio.eps", "ε", eps, None, (None, None), "inverse of eq. (9)", True,
                            f"the ratio is printed to ±{p.half_unit:g}: ε ∈ [{lo:.4f}, {hi:.4f}] from rounding alone"))
     else:
-        fits.append(FitRow("ε", eps, None, (None, None), "inverse of eq. (9)", True,
+        fits.append(FitRow("printed-ratio.eps", "ε", eps, None, (None, None), "inverse of eq. (9)", True,
                            "the ratio is printed as a fraction, with no stated uncertainty"))
     if fit is not None and data is not None:
-        fits += fit_rows(fit, {"eps": "ε"}, "least squares on eq. (9)", f"{data[2]}; n = {fit.n_data}")
+        fits += fit_rows(fit, "series", {"eps": "ε"}, "least squares on eq. (9)", f"{data[2]}; n = {fit.n_data}")
     modern = modern_rows(exp.modern, {
         "e_c": (r, "−V1/V0 measured by Coriolis"),
         "e_c(v)": (r, "Coriolis: about constant up to 7 m/s"),
@@ -178,7 +178,7 @@ def run(exp: Experiment) -> Reproduction:
     figures = [_figure_ratio(p, r, eps, exp)]
     if data is not None and fit is not None:
         figures.append(_figure_series(data, fit, r, p))
-    ident = () if fit is None or data is None else (identifiability_report(fit, {"eps": "ε"}, data[2]),)
+    ident = () if fit is None or data is None else (identifiability_report(fit, "series", {"eps": "ε"}, data[2]),)
     return Reproduction(exp, rows_for(exp, computed), tuple(fits), tuple(figures), modern,
                         data_note="" if data is None else data[2], identifiability=ident)
 

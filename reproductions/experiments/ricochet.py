@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 
 from ..config import Experiment, Node
-from ..errors import InputError
-from ..fitting import FAMILY_CHI2, Family, FamilyKind, FitResult, analyse, least_squares_fit
+from ..fitting import FitResult, fit_physical, fit_physical_positions, fit_positions, fit_times
 from ..mechanics import plane, reference
+from ..series import MIN_IMPRINTS, read_imprints
 from .base import (
     Computed,
     FigureSpec,
@@ -29,14 +29,12 @@ from .base import (
     identifiability_report,
     layer,
     read_ball,
-    read_series,
     rows_for,
 )
 
 STATIC = ("eq6_sliding", "eq6_all_regimes", "eq7_tan_sliding", "range_formula", "eq8_sliding", "eq8_all_regimes",
           "eq9_limit", "angles_decrease", "footnote_drop_ratio")
 MODERN = ("e_t",)
-MIN_IMPRINTS = 5
 
 
 def quantities(p: Params) -> tuple[str, ...]:
@@ -130,175 +128,9 @@ def simulate_series(p: Params, s: Synthetic, rng: np.random.Generator) -> tuple[
     return x - x[0], t - t[0]
 
 
-def _check_series(x: np.ndarray, where: str) -> None:
-    if x.size < MIN_IMPRINTS:
-        raise InputError(where, f"expected at least {MIN_IMPRINTS} imprints, got {x.size}")
-    bad = np.nonzero(np.diff(x) <= 0)[0]
-    if bad.size:
-        raise InputError(where, f"imprint positions must increase; imprint {bad[0] + 2} is not beyond imprint "
-                                f"{bad[0] + 1} ({x[bad[0] + 1]:g} ≤ {x[bad[0]]:g})")
-
-
 def load_series(s: Surface) -> tuple[np.ndarray, np.ndarray | None]:
     assert s.csv is not None
-    d = read_series(s.csv, ("x",), optional=("t",), min_rows=1)
-    x = d["x"]
-    _check_series(x, str(s.csv))
-    t = d.get("t")
-    if t is not None and np.any(np.diff(t) <= 0):
-        raise InputError(str(s.csv), "impact instants t must increase")
-    return x - x[0], None if t is None else t - t[0]
-
-
-# ---- estimators ---------------------------------------------------------------------------------------------
-def _positions_jac(th: np.ndarray, k: float, n: int) -> np.ndarray:
-    """∂/∂(ν, A, u) of the imprint positions x_1 … x_n of ``plane.ricochet_ranges_spinless`` (analytic)."""
-    nu, A, u = th
-    j = np.arange(n)
-    S = np.cumsum(nu**j)
-    dS = np.cumsum(j * nu ** np.maximum(j - 1, 0))
-    slide = 1 - u * (1 + nu) * S > k / (1 + k)
-    c = np.where(slide, 1 - u * (1 + nu) * S, k / (1 + k))
-    dc_dnu = np.where(slide, -u * (S + (1 + nu) * dS), 0.0)
-    dc_du = np.where(slide, -(1 + nu) * S, 0.0)
-    w = nu ** (j + 1)
-    return np.cumsum(np.c_[A * ((j + 1) * nu**j * c + w * dc_dnu), w * c, A * w * dc_du], axis=0)
-
-
-def fit_positions(p: Params, x: np.ndarray) -> FitResult:
-    """Fit (ν, A, u) of the spinless ricochet closed form to imprint positions measured from the first imprint.
-
-    A = 2a0² sin α0 cos α0/g and u = f tan α0 are all that the ranges depend on
-    (``plane.ricochet_ranges_spinless``); the kink where the slip stops makes the cost multimodal, so the fit
-    starts from the best point of a (ν, u) grid, A solved exactly there since the positions are linear in A.
-    """
-    n = x.size - 1
-
-    def res(th: np.ndarray) -> np.ndarray:
-        return np.cumsum(plane.ricochet_ranges_spinless(th[0], th[1], th[2], p.k, n)) - x[1:]
-
-    def jac(th: np.ndarray) -> np.ndarray:
-        return _positions_jac(th, p.k, n)
-
-    # A enters linearly: profile it out on a (ν, u) grid to find the basin of the global minimum, then polish
-    nu_g, u_g = np.meshgrid(np.linspace(0.05, 1.0, 96), np.linspace(0.0, 1.0, 101), indexing="ij")
-    shape = plane.ricochet_ranges_spinless(nu_g, 1.0, u_g, p.k, n).cumsum(axis=-1)
-    A_g = np.einsum("...j,j->...", shape, x[1:]) / np.maximum(np.einsum("...j,...j->...", shape, shape), 1e-300)
-    cost = np.sum((A_g[..., None] * shape - x[1:]) ** 2, axis=-1)
-    i = np.unravel_index(np.argmin(cost), cost.shape)
-    return least_squares_fit(res, [nu_g[i], A_g[i], u_g[i]], ["nu", "A", "u"],
-                             ([1e-3, 1e-6, 0.0], [1.0, 100.0, 5.0]), jac=jac)
-
-
-def _sigma_hat(fit: FitResult) -> float:
-    """The noise estimated from a fit's residuals, s = √(RSS/(m − rank))."""
-    return fit.residual_rms * math.sqrt(fit.n_data / max(fit.dof, 1))
-
-
-PHYSICAL = ("nu", "f", "a0", "alpha0")
-PHYSICAL_BOUNDS = ((1e-3, 0.0, 1e-3, 1e-3), (1.0, 2.0, 50.0, 1.5))  # ν, f, a0 (m/s), α0 (rad)
-
-
-def fit_physical_positions(p: Params, x: np.ndarray, start: FitResult) -> FitResult:
-    """The physical parameters (ν, f, a0, α0) that imprint positions alone determine, from the fit of (ν, A, u).
-
-    A spinless ball's ranges depend on (ν, A, u) only (``plane.ricochet_ranges_spinless``), so the solutions
-    form the exact family f = u / tan α0, a0 = √(gA / sin 2α0) (``plane.spinless_launch``) over the α0 that keep
-    (f, a0, α0) within ``PHYSICAL_BOUNDS``. Its canonical point is the slowest launch, α0 = π/4 (or the nearest
-    admissible α0). Nothing here depends on where an optimiser stops: the family is a closed form of the
-    well-conditioned (ν, A, u). Residuals are scaled by the noise the (ν, A, u) fit estimates.
-    Requires p0_fit = 0 (``fit_physical`` handles a given spin).
-    """
-    if p.p0_fit != 0.0:
-        raise ValueError("the closed-form family holds for a ball thrown without spin (p0_fit = 0)")
-    nu, A, u = start.point
-    n = x.size - 1
-    lo, hi = PHYSICAL_BOUNDS
-    c = p.g * A / hi[2] ** 2  # a0 ≤ a0_max  ⇔  sin 2α0 ≥ gA / a0_max²  (a0 ≥ lo[2] holds: gA ≥ g·1e-6 > lo[2]²)
-    if c > 1.0:
-        raise ValueError(f"no launch within a0 ≤ {hi[2]:g} m/s makes ranges this long (A = {A:g} m)")
-    a_lo = max(lo[3], math.atan(u / hi[1]), 0.5 * math.asin(c))  # f = u / tan α0 ≤ f_max
-    a_hi = min(hi[3], 0.5 * (math.pi - math.asin(c)))
-    alphas = np.array([a_lo, a_hi, min(max(math.pi / 4, a_lo), a_hi)])
-    f_, a0_ = plane.spinless_launch(A, u, p.g, alphas)
-    pts = [np.array([nu, f_[i], a0_[i], alphas[i]]) for i in range(3)]
-    sx = max(_sigma_hat(start), 1e-9)
-
-    def phi(th: np.ndarray) -> np.ndarray:
-        _, f, a0, al = th
-        return np.array([th[0], a0**2 * math.sin(2 * al) / p.g, f * math.tan(al)])
-
-    def res(th: np.ndarray) -> np.ndarray:
-        ph = phi(th)
-        return (np.cumsum(plane.ricochet_ranges_spinless(ph[0], ph[1], ph[2], p.k, n)) - x[1:]) / sx
-
-    def jac(th: np.ndarray) -> np.ndarray:  # chain rule through A = a0² sin 2α0/g, u = f tan α0
-        _, f, a0, al = th
-        D = np.array([[1.0, 0.0, 0.0, 0.0],
-                      [0.0, 0.0, 2 * a0 * math.sin(2 * al) / p.g, 2 * a0**2 * math.cos(2 * al) / p.g],
-                      [0.0, math.tan(al), 0.0, f / math.cos(al) ** 2]])
-        return _positions_jac(phi(th), p.k, n) @ D / sx
-
-    def res_model(th: np.ndarray) -> np.ndarray:  # the check: the ricochet model itself, not the closed form
-        r = plane.ricochet(th[2], th[3], 0.0, p.R, p.k, th[1], th[0], p.g, n)
-        return (r.imprints[1:] - x[1:]) / sx
-
-    rss = float(np.sum(res_model(pts[2]) ** 2))
-    d = tuple(float(np.sum(res_model(e) ** 2) - rss) for e in pts[:2])
-    ranges = (None, (float(min(f_[:2])), float(max(f_[:2]))),
-              (float(min(a0_)), float(max(a0_))), (float(a_lo), float(a_hi)))
-    fam = Family(FamilyKind.EXACT, "alpha0", (tuple(map(float, pts[0])), tuple(map(float, pts[1]))), ranges, d,
-                 max(d) <= FAMILY_CHI2,
-                 f"f = {u:.4g}/tan α0 and a0 = √({p.g * A:.4g} m²/s²/sin 2α0) for α0 in [{a_lo:.4g}, {a_hi:.4g}] rad "
-                 f"(bounds f ≤ {hi[1]:g}, a0 ≤ {hi[2]:g} m/s, α0 ≤ {hi[3]:g} rad)")
-    return analyse(res, pts[2], PHYSICAL, PHYSICAL_BOUNDS, sigma=1.0, jac=jac, family=fam,
-                   canonical="the slowest launch of the family (α0 = π/4 if admissible)")
-
-
-def fit_physical(p: Params, x: np.ndarray, t: np.ndarray | None, start: FitResult) -> FitResult:
-    """Fit the physical parameters (ν, f, a0, α0) of ``plane.ricochet`` to the positions, and to the impact
-    instants too when given: the identifiability report then says whether f is determined.
-
-    Starts from the closed-form fit (at α0 = 0.3 rad, any point of its family, or at the α0 the instants
-    give); residuals are scaled by the noise each series' own fit estimates, so metres and seconds mix.
-    """
-    nu, A, u = start.point
-    alpha = 0.3
-    st = None
-    if t is not None:  # the instants give the normal speed, hence the angle: start near the answer
-        ft = fit_times(p, t)
-        st = max(_sigma_hat(ft), 1e-9)
-        zeta_in = ft.point[1] / nu
-        alpha = math.atan2(zeta_in, A * p.g / (2 * zeta_in))
-    x0 = [nu, u / math.tan(alpha), math.sqrt(A * p.g / (2 * math.sin(alpha) * math.cos(alpha))), alpha]
-    n = x.size - 1
-    sx = max(_sigma_hat(start), 1e-9)
-
-    def res(th: np.ndarray) -> np.ndarray:
-        r = plane.ricochet(th[2], th[3], p.p0_fit, p.R, p.k, th[1], th[0], p.g, n)
-        out = (r.imprints[1:] - x[1:]) / sx
-        if t is None:
-            return out
-        return np.concatenate([out, (np.cumsum(r.times) - t[1:]) / st])
-
-    return least_squares_fit(res, x0, PHYSICAL, PHYSICAL_BOUNDS, sigma=1.0)
-
-
-def fit_times(p: Params, t: np.ndarray) -> FitResult:
-    """Fit (ν, ζ1) to impact instants (the acoustic method): flights last T_j = 2ν^j ζ1/g (§III n°9)."""
-    T = np.diff(t)
-    nu0 = float(np.clip(np.median(T[1:] / T[:-1]), 0.05, 0.99))
-    j = np.arange(T.size)
-
-    def res(th: np.ndarray) -> np.ndarray:
-        return np.cumsum(2 * th[1] * th[0] ** j / p.g) - t[1:]
-
-    def jac(th: np.ndarray) -> np.ndarray:
-        dnu = np.cumsum(2 * th[1] * j * th[0] ** np.maximum(j - 1, 0) / p.g)
-        dz = np.cumsum(2 * th[0] ** j / p.g)
-        return np.c_[dnu, dz]
-
-    return least_squares_fit(res, [nu0, p.g * T[0] / 2], ["nu", "zeta1"], ([1e-3, 1e-6], [1.0, 100.0]), jac=jac)
+    return read_imprints(s.csv)
 
 
 # ---- the printed formulas against the integration -----------------------------------------------------------
@@ -396,24 +228,32 @@ def run(exp: Experiment) -> Reproduction:
         else:
             x, t = load_series(s)
             label = f"measured ({s.name}): {s.csv.name if s.csv else ''}, {x.size} imprints"
-        fx = fit_positions(p, x)
+        fx = fit_positions(x, k=p.k)
         labels = {"nu": f"ν [{s.id}]", "A": f"A = 2a0² sin α0 cos α0/g [{s.id}] (m)", "u": f"f tan α0 [{s.id}]"}
-        fits += fit_rows(fx, labels, "least squares on imprint positions (closed form, spinless)", label)
-        ident.append(identifiability_report(fx, labels, f"imprint positions, closed form, {s.id}"))
+        fits += fit_rows(fx, f"{s.id}.positions", labels, "least squares on imprint positions (closed form, spinless)",
+                         label)
+        ident.append(identifiability_report(fx, f"{s.id}.positions", labels,
+                                            f"imprint positions, closed form, {s.id}"))
         # f from ranges alone: the physical parameters (ν, f, a0, α0) against the positions
         phys = {"nu": "ν", "f": "f", "a0": "a0", "alpha0": "α0"}
-        fp = fit_physical_positions(p, x, fx) if p.p0_fit == 0.0 else fit_physical(p, x, None, fx)
-        ident.append(identifiability_report(fp, phys, f"imprint positions, physical parameters, {s.id}"))
-        fits += fit_rows(fp, {"f": f"f [{s.id}], positions only"}, "least squares, physical parameters",
+        fp = fit_physical_positions(x, fx, R=p.R, k=p.k, g=p.g) if p.p0_fit == 0.0 else \
+            fit_physical(x, None, fx, R=p.R, k=p.k, g=p.g, p0=p.p0_fit)
+        ident.append(identifiability_report(fp, f"{s.id}.positions-physical", phys,
+                                            f"imprint positions, physical parameters, {s.id}"))
+        fits += fit_rows(fp, f"{s.id}.positions-physical", {"f": f"f [{s.id}], positions only"},
+                         "exact family from the closed-form fit, physical parameters",
                          "f enters the ranges only through f tan α0", only=("f",))
         shown = fp
         if t is not None:
-            ft = fit_times(p, t)
-            fits += fit_rows(ft, {"nu": f"ν [{s.id}, acoustic]", "zeta1": f"ζ1 [{s.id}, acoustic] (m/s)"},
+            ft = fit_times(t, g=p.g)
+            fits += fit_rows(ft, f"{s.id}.times",
+                             {"nu": f"ν [{s.id}, acoustic]", "zeta1": f"ζ1 [{s.id}, acoustic] (m/s)"},
                              "least squares on impact instants", label)
-            fj = fit_physical(p, x, t, fx)
-            ident.append(identifiability_report(fj, phys, f"imprint positions and instants, {s.id}"))
-            fits += fit_rows(fj, {"f": f"f [{s.id}], positions + instants"}, "least squares, physical parameters, "
+            fj = fit_physical(x, t, fx, R=p.R, k=p.k, g=p.g, p0=p.p0_fit)
+            ident.append(identifiability_report(fj, f"{s.id}.joint-physical", phys,
+                                                f"imprint positions and instants, {s.id}"))
+            fits += fit_rows(fj, f"{s.id}.joint-physical", {"f": f"f [{s.id}], positions + instants"},
+                             "least squares, physical parameters, "
                              "residuals scaled by each series' estimated noise", label, only=("f",))
             shown = fj
         computed[f"nu.{s.id}"] = Computed(
@@ -441,8 +281,8 @@ def _compare_estimators(p: Params, s: Surface, seed: int) -> list[tuple]:
     est: dict[str, list[float]] = {"positions": [], "flight times": []}
     for r in range(p.seeds):
         x, t = simulate_series(p, s.synthetic, np.random.default_rng(seed + r))
-        est["positions"].append(fit_positions(p, x).point[0])
-        est["flight times"].append(fit_times(p, t).point[0])
+        est["positions"].append(fit_positions(x, k=p.k).point[0])
+        est["flight times"].append(fit_times(t, g=p.g).point[0])
     out = []
     for name, v in est.items():
         a = np.asarray(v)
