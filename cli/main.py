@@ -113,21 +113,31 @@ def reproduce(
 @app.command()
 def simulate(
     model: Annotated[str | None, typer.Argument(help="model name; see --list")] = None,
-    set_: Annotated[list[str] | None, typer.Option("--set", help="name=value, SI units, paper's notation")] = None,
+    set_: Annotated[list[str] | None, typer.Option("--set", help="name=value: SI units, angles in degrees, "
+                                                                  "vectors as x,y,z")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="print one JSON object")] = False,
-    list_: Annotated[bool, typer.Option("--list", help="list the models and their parameters")] = False,
-    method: Annotated[str, typer.Option(help="solution path: auto, exact, or resal (the paper's)")] = "auto",
+    list_: Annotated[bool, typer.Option("--list", help="list the models, their parameters and paths")] = False,
+    method: Annotated[str, typer.Option(help="solution path: auto (the cheapest exact one for the scene) or a "
+                                             "path of the model (see --list)")] = "auto",
 ) -> None:
     """Run one scene of a mechanics model and print its outputs."""
-    from reproductions.models import MODELS
+    from reproductions.models import list_models
     from reproductions.models import simulate as run_scene
 
     if list_:
-        t = Table(title="models")
-        for c in ("model", "what", "parameters (default)"):
+        info = list_models()
+        if as_json:
+            typer.echo(json.dumps(info, indent=2, ensure_ascii=False))
+            return
+        t = Table(title=f"models ({info['units']})")
+        for c in ("model", "what", "parameters (default; * must be given)", "paths (cost)"):
             t.add_column(c, overflow="fold")
-        for m in MODELS.values():
-            t.add_row(m.name, m.doc, ", ".join(f"{p.name}={p.default:g}" for p in m.params))
+        for m in info["models"]:
+            params = ", ".join(f"{p['name']}*" if p["required"] else
+                               f"{p['name']}={p['default']:g}" if not p["vector"] else f"{p['name']}={p['default']}"
+                               for p in m["parameters"])
+            t.add_row(m["model"], f"{m['doc']} ({m['section']})", params,
+                      ", ".join(f"{p['name']} ({p['cost']})" for p in m["paths"]))
         out_console.print(t)
         return
     try:
@@ -137,20 +147,25 @@ def simulate(
     except InputError as err:
         _fail(err)
     if as_json:
-        typer.echo(json.dumps(result, indent=2))
+        typer.echo(json.dumps(result, indent=2, ensure_ascii=False))
         return
-    t = Table(title=f"{result['model']} ({result['method']})")
+    t = Table(title=f"{result['model']}: {result['label']} (path {result['path_name']}, "
+                    f"regime {result['regime_name']})")
     t.add_column("name")
     t.add_column("value")
     for k, v in result["inputs"].items():
-        t.add_row(f"in  {k}", f"{v:.10g}")
+        t.add_row(f"in  {k}", ", ".join(f"{x:.10g}" for x in v) if isinstance(v, list) else f"{v:.10g}")
     for k, v in result["outputs"].items():
         if isinstance(v, list):
-            text = ", ".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in v)
+            text = ", ".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in _flat(v))
         else:
             text = f"{v:.10g}" if isinstance(v, float) else str(v)
         t.add_row(f"out {k}", Text(text))
     out_console.print(t)
+
+
+def _flat(v: list[Any]) -> list[Any]:
+    return [y for x in v for y in (_flat(x) if isinstance(x, list) else [x])]
 
 
 def _fits_table(fits: list[dict[str, Any]], title: str) -> Table:

@@ -389,7 +389,7 @@ def test_csv_series_good_file_is_accepted(tmp_path: Path) -> None:
 def test_simulate_bad_set(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, assignment: str,
                           fragments: tuple[str, ...]) -> None:
     monkeypatch.chdir(tmp_path)
-    assert_bad(invoke("simulate", "direct-impact", "--set", "eps=0.1", "--set", assignment),
+    assert_bad(invoke("simulate", "direct-impact", "--set", "eps=0.1", "--set", "epsp=0.1", "--set", assignment),
                f"--set {assignment}:", *fragments)
     assert list(tmp_path.iterdir()) == []
 
@@ -398,9 +398,26 @@ def test_simulate_unknown_model() -> None:
     assert_bad(invoke("simulate", "nope"), "model 'nope'", "direct-impact, wall-impact")
 
 
+@pytest.mark.parametrize(("args", "fragments"), [
+    (("direct-impact", "--set", "eps=0.1", "--set", "epsp=0.1", "--method", "resal"),
+     ("--method resal:", "direct-impact has no path 'resal'", "auto, exact, ode")),
+    (("cushion-impact", "--set", "n0=-30", "--set", "j=0.2", "--set", "eps=0.3", "--method", "elementary"),
+     ("--method elementary:", "path 'elementary' handles only n0 = 0")),
+    (("direct-impact", "--set", "eps=0.1", "--set", "epsp=0.1", "--set", "V0=1", "--set", "V0p=2"),
+     ("separating bodies do not collide",)),
+    (("wall-impact",), ("wall-impact needs eps (no default",)),
+    (("spheres-free", "--set", "v=1,2", "--set", "f=0", "--set", "eps=0", "--set", "epsp=0"),
+     ("'v' is a 3-vector",)),
+])
+def test_simulate_refuses_a_path_outside_its_region_and_missing_coefficients(args: tuple[str, ...],
+                                                                           fragments: tuple[str, ...]) -> None:
+    assert_bad(invoke("simulate", *args), *fragments)
+
+
 @pytest.mark.parametrize(("assignment", "value"), [("eps=1e-3", 0.001), ("eps=7/12", 7 / 12), ("M=2", 2.0)])
 def test_simulate_accepts_numbers_yaml_would_not(assignment: str, value: float) -> None:
-    result = invoke("simulate", "direct-impact", "--set", assignment, "--json")
+    result = invoke("simulate", "direct-impact", "--set", "eps=0.2", "--set", "epsp=0.1", "--set", assignment,
+                    "--json")
     assert result.exit_code == 0, (result.output, repr(result.exception))
     name = assignment.split("=")[0]
     assert json.loads(result.stdout)["inputs"][name] == pytest.approx(value, rel=1e-15)

@@ -32,17 +32,18 @@ def test_cloth_closed_form_matches_integration_sliding_and_rolling():
 
 def test_cloth_state_is_vectorised_over_scenes_and_times():
     vx = np.array([1.0, 2.0, 0.5])
-    x, *_ = cloth.state_at(np.linspace(0, 1, 5), vx, 0.0, 30.0, 0.0, R)
+    x, *_ = cloth.state_at(np.linspace(0, 1, 5), vx, 0.0, 30.0, 0.0, R, K, 0.25, 9.81)
     assert x.shape == (3, 5)
     for j in range(3):
-        xj, *_ = cloth.state_at(np.linspace(0, 1, 5), vx[j], 0.0, 30.0, 0.0, R)
+        xj, *_ = cloth.state_at(np.linspace(0, 1, 5), vx[j], 0.0, 30.0, 0.0, R, K, 0.25, 9.81)
         np.testing.assert_allclose(x[j], xj, rtol=1e-14)
 
 
 def test_rolling_resistance_stops_the_ball_and_a_rolling_ball_skips_sliding():
-    m = cloth.slide(1.0, 0.0, 0.0, 1.0 / R, R)  # v = Rω: already rolling
+    m = cloth.slide(1.0, 0.0, 0.0, 1.0 / R, R, K, 0.25, 9.81)  # v = Rω: already rolling
     assert float(m.t_roll) < 1e-15
-    x, _, vx, _ = cloth.state_at(np.array([0.0, 1.0, 100.0]), 1.0, 0.0, 0.0, 1.0 / R, R, f_roll=0.01)
+    x, _, vx, _ = cloth.state_at(np.array([0.0, 1.0, 100.0]), 1.0, 0.0, 0.0, 1.0 / R, R, K, 0.25, 9.81,
+                                 f_roll=0.01)
     stop = 1.0 / (0.01 * 9.81)
     assert vx[-1] == 0.0 and x[-1] == pytest.approx(0.5 * stop, rel=1e-12)
 
@@ -52,7 +53,7 @@ def test_coriolis_centre_of_oscillation_gives_immediate_rolling():
     M, P = 0.21, 0.4
     for height, rolls in ((h, True), (0.8 * h, False), (1.2 * h, False)):
         # a horizontal impulse P at `height` above the centre: v = P/M, ω_y = P·height·k/(M R²)
-        m = cloth.slide(P / M, 0.0, 0.0, P * height * K / (M * R**2), R, K)
+        m = cloth.slide(P / M, 0.0, 0.0, P * height * K / (M * R**2), R, K, 0.25, 9.81)
         assert (float(m.t_roll) < 1e-12) == rolls
     # and the stroke model of §VII agrees: a horizontal cue at that height leaves no slip on the cloth
     s = cue.cue_stroke(M, 0.63, 3.0, 0.0, 0.0, h, R, K, 0.25, 0.0, 0.8)
@@ -115,22 +116,24 @@ def test_experiments_verdicts():
 
 @pytest.mark.parametrize("args, message", [
     (["cloth-slide", "--set", "f=0"], "'f' must be a number > 0"),
-    (["cue-stroke", "--set", "i=90"], "'i' must be a number in [0, 90)"),
-    (["cue-stroke", "--set", "i=-5"], "'i' must be a number in [0, 90)"),
+    (["cue-stroke", "--set", "i=90"], "'i' must be a number in [0, 90) (degrees)"),
+    (["cue-stroke", "--set", "i=-5"], "'i' must be a number in [0, 90) (degrees)"),
     (["cue-stroke", "--set", "b=0.03", "--set", "c=0.02"], "the contact point must lie on the ball"),
-    (["cue-stroke", "--set", "i=80", "--set", "c=-0.025"], "cannot reach"),
-    (["cloth-slide", "--method", "resal"], "single solution path"),
+    (["cue-stroke", "--set", "i=80", "--set", "c=-0.025"], "where the cue can reach it"),
+    (["cloth-slide", "--method", "resal"], "cloth-slide has no path 'resal'"),
 ])
 def test_bad_scene_input(args, message):
-    res = CliRunner().invoke(app, ["simulate", *args])
+    coefficients = {"cloth-slide": ["--set", "f=0.25"],
+                    "cue-stroke": ["--set", "f=0.25", "--set", "eps=0", "--set", "epsp=0.8"]}[args[0]]
+    res = CliRunner().invoke(app, ["simulate", args[0], *coefficients, *args[1:]])
     assert res.exit_code == 2 and message in " ".join(res.stderr.split())
     assert "Traceback" not in res.output
 
 
 def test_a_ball_already_rolling_is_the_trivial_answer_not_nan():
-    res = CliRunner().invoke(app, ["simulate", "cloth-slide", "--set", "vx=0", "--json"])
+    res = CliRunner().invoke(app, ["simulate", "cloth-slide", "--set", "vx=0", "--set", "f=0.25", "--json"])
     assert res.exit_code == 0
     import json
 
-    out = json.loads(res.stdout)["outputs"]
-    assert out["t_roll"] == 0.0 and "already rolls" in out["note"]
+    out = json.loads(res.stdout)
+    assert out["outputs"]["t_roll"] == 0.0 and out["regime_name"] == "no-slip"  # a code, not a note

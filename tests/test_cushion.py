@@ -8,7 +8,8 @@ from typer.testing import CliRunner
 
 from cli.main import app
 from reproductions import api
-from reproductions.mechanics import cushion
+from reproductions.mechanics import cushion, impact
+from reproductions.mechanics.paths import Regime
 
 R, K = 0.0305, 2.5
 
@@ -23,17 +24,17 @@ def test_exact_closed_form_matches_the_integration_in_both_regimes():
     args = _scenes(120, 1)
     ex = cushion.cushion_impact(*args, method="exact")
     ode = cushion.cushion_impact(*args, method="ode")
-    assert 0.1 < ex.slip_stops.mean() < 0.9
+    assert 0.1 < (ex.regime == Regime.GRIP).mean() < 0.9
     a = -args[1]
     for u, v in ((ex.chi1, ode.chi1), (ex.p1 * R, ode.p1 * R), (ex.n1 * R, ode.n1 * R)):
         np.testing.assert_allclose(u / a, v / a, atol=1e-9)
-    assert np.array_equal(ex.slip_stops, ode.slip_stops)
+    assert np.array_equal((ex.regime == Regime.GRIP), (ode.regime == Regime.GRIP))
 
 
 def test_special_cases_have_elementary_forms():
     # no rotation about the cushion's direction (n0 = 0): the slip keeps its direction, like §III
     chi0, zeta0, p0, j, eps = 1.5, -1.0, 10.0, 0.2, 0.29
-    nu = float(cushion.nu_from_eps(eps))
+    nu = float(impact.nu_from_eps(eps))
     out = cushion.cushion_impact(chi0, zeta0, p0, 0.0, R, K, j, eps)
     phi0 = chi0 - p0 * R
     phi1 = phi0 - j * (1 + K) * (1 + nu) * 1.0
@@ -45,7 +46,8 @@ def test_special_cases_have_elementary_forms():
     assert float(free.zeta1) == pytest.approx(nu)
 
 
-@pytest.mark.parametrize("method", cushion.METHODS)
+# the elementary form handles only some scenes: the registry's invariant test covers it
+@pytest.mark.parametrize("method", [m for m in cushion.METHODS if m != "elementary"])
 def test_every_path_never_gains_energy_and_is_mirror_symmetric(method):
     chi0, zeta0, p0, n0, _, _, j, eps = _scenes(60, 2)
     out = cushion.cushion_impact(chi0, zeta0, p0, n0, R, K, j, eps, method)
@@ -85,9 +87,9 @@ def test_experiment_verdicts():
 @pytest.mark.parametrize("args, message", [
     (["--set", "j=-0.1"], "'j' must be a number ≥ 0"),
     (["--set", "eps=1.5"], "'eps' must be a number in [0, 1]"),
-    (["--set", "zeta0=0.5"], "ζ0 must be negative"),
-    (["--method", "fast"], "expected one of"),
+    (["--set", "zeta0=0.5"], "'zeta0' must be a number < 0"),
+    (["--method", "fast"], "expected one of: auto, elementary, exact, resal, resal-corrected, ode"),
 ])
 def test_bad_cushion_input(args, message):
-    res = CliRunner().invoke(app, ["simulate", "cushion-impact", *args])
+    res = CliRunner().invoke(app, ["simulate", "cushion-impact", "--set", "j=0.2", "--set", "eps=0.3", *args])
     assert res.exit_code == 2 and message in " ".join(res.stderr.split()) and "Traceback" not in res.output

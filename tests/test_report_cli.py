@@ -86,7 +86,8 @@ def test_simulate_direct_impact_json():
                               "--set", "eps=0", "--set", "epsp=0.2667", "--json"])
     assert res.exit_code == 0, res.output
     out = json.loads(res.stdout)
-    assert out["model"] == "direct-impact" and "eq. (7)" in out["method"]
+    assert out["model"] == "direct-impact" and out["method"] == "auto" and "eq. (7)" in out["label"]
+    assert out["path"] == 1 and out["path_name"] == "exact" and out["regime"] == 0  # codes, not prose
     assert out["outputs"]["V1p"] == pytest.approx(6 / (1 + 3 * 1.2667), rel=1e-12)
     assert out["inputs"]["V0p"] == 0.0
 
@@ -94,7 +95,23 @@ def test_simulate_direct_impact_json():
 def test_simulate_list_names_models_and_parameters():
     res = runner.invoke(app, ["simulate", "--list"])
     assert res.exit_code == 0
-    assert "direct-impact" in res.stdout and "wall-impact" in res.stdout and "epsp=0" in res.stdout
+    assert "direct-impact" in res.stdout and "wall-impact" in res.stdout and "epsp*" in res.stdout
+
+
+def test_simulate_list_json_gives_every_model_its_paths_and_units():
+    from reproductions.mechanics import registry
+
+    res = runner.invoke(app, ["simulate", "--list", "--json"])
+    assert res.exit_code == 0
+    info = json.loads(res.stdout)
+    assert "degrees" in info["units"]
+    assert [m["model"] for m in info["models"]] == list(registry.MODELS)
+    for m in info["models"]:
+        assert m["paths"] and any(p["kind"] == "ode-reference" for p in m["paths"])
+        assert all(p["unit"] for p in m["parameters"])
+    ric = next(m for m in info["models"] if m["model"] == "ricochet")
+    alpha = next(p for p in ric["parameters"] if p["name"] == "alpha0")
+    assert alpha["unit"] == "degrees" and alpha["hi"] == pytest.approx(90.0)
 
 
 def test_diff_finds_a_changed_number_and_accepts_identical(written, tmp_path):

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..config import Experiment, Node
 from ..mechanics import spheres
+from ..mechanics.paths import Regime
 from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
 
 QUANTITIES = ("free_direction", "eq5", "eq8_as_printed", "resal_sliding_error", "eq9_as_printed", "b_over_a",
@@ -84,7 +85,7 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     live = np.hypot(*s1.T) > 1e-3 * np.hypot(*s0.T)  # directions of slips that have not (nearly) stopped
     turn = np.abs(np.arctan2(s0[:, 0] * s1[:, 1] - s0[:, 1] * s1[:, 0], (s0 * s1).sum(-1)))  # exact near 0
     out["free_direction"] = float(np.max(turn[live]))
-    slide = ~ex.slip_stops
+    slide = ~(ex.regime == Regime.GRIP)
     unit = s0 / np.hypot(*s0.T)[:, None]
     # (5): η0 − η1 = fω1 along the slip, with Oy along it; likewise q (R q0 − R q1 = f k ω1 …)
     dv_t = (v - ex.v1)[:, 1:]
@@ -97,7 +98,7 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     omega = (v[:, 0] - vp[:, 0]) / (1 + mu)
     num = 2 * omega * (1 + f**2 * (1 + k) + mu * (1 + f**2 * (1 + kp)))
     den_printed = (1 + f**2 * (1 + k)) * (1 + eps) + mu * (1 + f**2 * (1 + k)) * (1 + epsp)
-    sl = ~exk.slip_stops
+    sl = ~(exk.regime == Regime.GRIP)
     out["eq8_as_printed"] = float(np.max(np.abs(num / den_printed - exk.omega1)[sl] / omega[sl]))
     # (9) as printed: ω1 = 2{…}/{…}, without the factor (χ0 − χ0′)/(1 + M/M′)
     out["eq9_as_printed"] = float(np.max(np.abs(num / omega / den_printed - exk.omega1)[sl] / omega[sl]))
@@ -105,7 +106,7 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     rs = spheres.two_spheres(M, Mp, R, R, k, k, v, w, vp, wp, f, eps, epsp, method="resal")
     err = np.max(np.abs(rs.v1 - ex.v1), axis=-1) / approach[:, 0]
     out["resal_sliding_error"] = float(np.max(err))
-    out["resal_sliding_share"] = float(np.mean(ex.slip_stops))
+    out["resal_sliding_share"] = float(np.mean(ex.regime == Regime.GRIP))
     out["resal_sliding_energy"] = float(max(0.0, np.max(_vis_viva(rs, M, Mp, R, k) / T0 - 1)))
     out["exact_energy"] = float(max(0.0, np.max(_vis_viva(ex, M, Mp, R, k) / T0 - 1)))
     # §VI on the cloth

@@ -39,6 +39,7 @@ class Params:
     fan_heights: tuple[float, ...]  # c/R
     fan_side: float  # b/R
     region_i_max: float  # rad
+    g: float  # gravity, for the motion on the cloth after the stroke
 
 
 def parse(node: Node, base: Path) -> Params:
@@ -64,8 +65,9 @@ def parse(node: Node, base: Path) -> Params:
         raise fan.fail("'params.fan': every contact point must lie on the ball: (c/R)² + (b/R)² < 1")
     fan.done()
     i_max = math.radians(node.number("region_i_max_deg", "an angle in degrees", lo=0.0, hi=90.0, hi_open=True))
+    g = node.number("g", "gravity in m/s²", default=9.81, lo=0.0, lo_open=True)
     node.done()
-    return Params(R, k, M, Mp, V0p, f, eps, mr, rp, tips, incl, heights, side, i_max)
+    return Params(R, k, M, Mp, V0p, f, eps, mr, rp, tips, incl, heights, side, i_max, g)
 
 
 def epsp_from_n5(p: Params) -> float:
@@ -189,7 +191,7 @@ def run(exp: Experiment) -> Reproduction:
 
 def _after(p: Params, epsp: float, i: np.ndarray, cR: np.ndarray, bR: float) -> tuple:
     s = cue.cue_stroke(p.M, p.Mp, p.V0p, i, bR * p.R, cR * p.R, p.R, p.k, p.f, p.eps, epsp)
-    m = cloth.slide(s.chi1, s.eta1, s.n1, s.p1, p.R, p.k, p.f)
+    m = cloth.slide(s.chi1, s.eta1, s.n1, s.p1, p.R, p.k, p.f, p.g)
     return s, m
 
 
@@ -200,7 +202,7 @@ def _figure_fan(p: Params, epsp: float) -> FigureSpec:
         for h in p.fan_heights:
             s, m = _after(p, epsp, np.array(i), np.array(h), p.fan_side)
             t = np.linspace(0.0, 1.5 * float(m.t_roll) + 1e-9, 100)
-            x, y, _, _ = cloth.state_at(t, s.chi1, s.eta1, s.n1, s.p1, p.R, p.k, p.f)
+            x, y, _, _ = cloth.state_at(t, s.chi1, s.eta1, s.n1, s.p1, p.R, p.k, p.f, p.g)
             retro = float(m.vx_roll) < 0
             kind = "retrograde" if retro else "direct"
             label = "" if kind in seen else f"{kind} (final motion along Ox)"

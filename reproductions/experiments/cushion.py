@@ -16,6 +16,7 @@ import numpy as np
 
 from ..config import Experiment, Node
 from ..mechanics import cushion, impact
+from ..mechanics.paths import Regime
 from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
 
 QUANTITIES = ("eq4", "eq5", "eq6", "eq7_as_printed", "eq9", "eq10_as_printed", "closed_form", "approx_error")
@@ -61,7 +62,7 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     exact = cushion.cushion_impact(chi0, zeta0, p0, n0, R, k, j, p.eps, "exact")
     a = -zeta0
     phi0, phi1 = chi0 - p0 * R, ode.chi1 - ode.p1 * R
-    slide = ~ode.slip_stops & (np.abs(phi1) > 1e-9 * a)
+    slide = ~(ode.regime == Regime.GRIP) & (np.abs(phi1) > 1e-9 * a)
     out = {
         "eq4": np.max(np.abs(ode.chi1 - (chi0 - (R / k) * (ode.p1 - p0))) / a),
         "eq5": np.max(np.abs(phi1 - (chi0 + p0 * R / k - (1 + k) / k * ode.p1 * R)) / a),
@@ -77,7 +78,7 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     v7 = np.abs(phi1) * np.sqrt(1 + (n0 * R / phi0) ** 2 * np.abs(phi0 / safe) ** ((1 + k) / 2))
     out["eq7_as_printed"] = np.max(np.abs(v7 - v_true)[slide] / a[slide])
     # (10): j(1 + k)(1 + ν)a = ∫_{φ1}^{φ0} √(1 + (n0R/φ0)² (φ0/φ)^e) dφ, evaluated at the integrated φ1
-    nu = float(cushion.nu_from_eps(p.eps))
+    nu = float(impact.nu_from_eps(p.eps))
     errs = []
     for i in np.nonzero(slide & (np.sign(phi1) == np.sign(phi0)))[0]:
         f0, f1 = abs(phi0[i]), abs(phi1[i])

@@ -18,6 +18,7 @@ import numpy as np
 from ..config import Experiment, Node
 from ..fitting import FitResult, fit_physical, fit_physical_positions, fit_positions, fit_times
 from ..mechanics import plane, reference
+from ..mechanics.paths import Regime
 from ..series import MIN_IMPRINTS, read_imprints
 from .base import (
     Computed,
@@ -305,7 +306,8 @@ def _figure_sequence(p: Params, s: Surface, x: np.ndarray, fit: FitResult, heigh
         f"ricochet-{s.id}", f"Ricochets on {s.name}", "x along the plane (m)", "height of the centre (m)",
         (layer("line", np.concatenate(xs), np.concatenate(zs), label=f"fitted model: ν = {nu:.3f}", color="C0"),
          layer("points", x, np.zeros_like(x), label=f"{kind}imprints ({x.size})", color="C3", marker="|")),
-        caption=f"{kind}series; slides at impacts {', '.join(str(i + 1) for i in np.nonzero(r.sliding)[0]) or 'none'}"
+        caption=f"{kind}series; slides at impacts "
+                f"{', '.join(str(i + 1) for i in np.nonzero(r.regimes == Regime.SLIDE)[0]) or 'none'}"
                 + ("" if heights_known else "; heights illustrative: α0 is not determined by positions alone"))
 
 

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .paths import PathCode, Regime, codes
+
 __all__ = ["ClothMotion", "centre_of_oscillation", "slide", "state_at"]
 
 
@@ -33,6 +35,9 @@ class ClothMotion:
     vy_roll: np.ndarray
     slip0: np.ndarray  # initial slip speed v0
     method: str
+    path: np.ndarray
+    regime: np.ndarray  # GRIP: slides, then rolls; NO_SLIP: already rolling
+    label: str
 
 
 def _slip(vx: np.ndarray, vy: np.ndarray, wx: np.ndarray, wy: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -42,8 +47,8 @@ def _slip(vx: np.ndarray, vy: np.ndarray, wx: np.ndarray, wy: np.ndarray, R: np.
     return ux / safe, uy / safe, u
 
 
-def slide(vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: ArrayLike, R: ArrayLike, k: ArrayLike = 2.5,
-          f: ArrayLike = 0.25, g: ArrayLike = 9.81) -> ClothMotion:
+def slide(vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: ArrayLike, R: ArrayLike, k: ArrayLike, f: ArrayLike,
+          g: ArrayLike) -> ClothMotion:
     """Time, place and velocity at which rolling starts (§II n°7: t1 = v0/(fg(1 + k)) and the point of the
     parabola reached then). A ball already rolling (v0 = 0) skips the sliding phase: t1 = 0."""
     vx, vy, wx, wy, R, k, f, g = np.broadcast_arrays(
@@ -52,12 +57,13 @@ def slide(vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: ArrayLike, R: ArrayLi
     t1 = u / ((1 + k) * f * g)
     x1 = vx * t1 - 0.5 * f * g * ex * t1**2
     y1 = vy * t1 - 0.5 * f * g * ey * t1**2
-    return ClothMotion(t1, x1, y1, vx - f * g * ex * t1, vy - f * g * ey * t1, u,
+    return ClothMotion(t1, x1, y1, vx - f * g * ex * t1, vy - f * g * ey * t1, u, "exact",
+                       codes(u.shape, PathCode.EXACT), np.where(u > 0, Regime.GRIP, Regime.NO_SLIP).astype(np.int8),
                        "closed form, §II eqs (3)-(4)")
 
 
 def state_at(t: ArrayLike, vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: ArrayLike, R: ArrayLike,
-             k: ArrayLike = 2.5, f: ArrayLike = 0.25, g: ArrayLike = 9.81, f_roll: ArrayLike = 0.0
+             k: ArrayLike, f: ArrayLike, g: ArrayLike, f_roll: ArrayLike = 0.0
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Position (x, y) and velocity (vx, vy) of the centre at times t (from the start, at the origin).
 

@@ -40,7 +40,9 @@ from numpy.typing import ArrayLike
 
 __all__ = ["CueStroke", "contact_point", "cue_stroke", "miscue_angle", "stroke_per_impulse"]
 
-METHODS = ("auto", "exact", "resal")
+from .paths import PathCode, Regime, codes
+
+METHODS = ("exact", "resal")
 
 
 @dataclass(frozen=True)
@@ -58,8 +60,10 @@ class CueStroke:
     A: np.ndarray  # eq. (8)
     gamma: np.ndarray  # direction of the slip on the cloth, eq. (5)
     cos_phi: np.ndarray  # angle of the cue axis with the normal at the contact, eq. (11)
-    slides_on_cloth: np.ndarray
     method: str
+    path: np.ndarray
+    regime: np.ndarray  # SLIDE: the ball slides on the cloth during the stroke; GRIP: the cloth holds it
+    label: str
 
 
 def contact_point(b: ArrayLike, c: ArrayLike, R: ArrayLike) -> np.ndarray:
@@ -100,10 +104,10 @@ def stroke_per_impulse(i: ArrayLike, b: ArrayLike, c: ArrayLike, R: ArrayLike, k
 
 
 def cue_stroke(M: ArrayLike, Mp: ArrayLike, V0p: ArrayLike, i: ArrayLike, b: ArrayLike, c: ArrayLike,
-               R: ArrayLike, k: ArrayLike = 2.5, f: ArrayLike = 0.25, eps: ArrayLike = 0.0,
-               epsp: ArrayLike = 4 / 15, method: str = "auto") -> CueStroke:
-    """The stroke of §VII n°14 (module docstring); ``auto`` takes the exact moment (it costs the same)."""
-    path = "exact" if method == "auto" else method
+               R: ArrayLike, k: ArrayLike, f: ArrayLike, eps: ArrayLike, epsp: ArrayLike,
+               method: str = "exact") -> CueStroke:
+    """The stroke of §VII n°14 (module docstring): ``exact`` or ``resal`` (as printed)."""
+    path = method
     per = stroke_per_impulse(i, b, c, R, k, f, M, path)
     M, Mp, V0p, R, k, eps, epsp = np.broadcast_arrays(*(np.asarray(x, dtype=float)
                                                          for x in (M, Mp, V0p, R, k, eps, epsp)))
@@ -120,6 +124,7 @@ def cue_stroke(M: ArrayLike, Mp: ArrayLike, V0p: ArrayLike, i: ArrayLike, b: Arr
     label = ("Résal's eqs (2)-(12) as printed (moment about Cy without a sin i; compression ended along the "
              "normal)" if path == "resal" else
              "closed form, §VII eqs (2)-(10) with the full moment of F, compression ended along the cue axis")
+    regime = np.where(per["slides"], Regime.SLIDE, Regime.GRIP).astype(np.int8)
     return CueStroke(chi1=P * v[0], eta1=P * v[1], n1=P * w[0], p1=P * w[1], q1=P * w[2], V1p=V0p - omega1,
-                     omega1=omega1, omega=omega, A=A, gamma=per["gamma"], cos_phi=per["cos_phi"],
-                     slides_on_cloth=per["slides"], method=label)
+                     omega1=omega1, omega=omega, A=A, gamma=per["gamma"], cos_phi=per["cos_phi"], method=method,
+                     path=codes(omega1.shape, PathCode[method.upper()]), regime=regime, label=label)

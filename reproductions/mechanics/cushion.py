@@ -34,27 +34,44 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .impact import nu_from_eps
+from .paths import PathCode, Regime, codes
 from .slip import slip_decay
 
-__all__ = ["METHODS", "CushionImpact", "cushion_impact", "nu_from_eps"]
+__all__ = ["METHODS", "CushionImpact", "cushion_impact", "elementary_applies"]
 
-METHODS = ("auto", "exact", "resal", "resal-corrected", "ode")
+METHODS = ("exact", "elementary", "resal", "resal-corrected", "ode")
+_CODES = {"exact": PathCode.EXACT, "elementary": PathCode.ELEMENTARY, "resal": PathCode.RESAL,
+          "resal-corrected": PathCode.RESAL_CORRECTED, "ode": PathCode.ODE}
 
 
 @dataclass(frozen=True)
 class CushionImpact:
+    """After the impact; ``regime``: SLIDE (slips throughout), GRIP (the slip stops), NO_SLIP (none at first)."""
+
     chi1: np.ndarray
     zeta1: np.ndarray
     p1: np.ndarray
     n1: np.ndarray
-    slip_stops: np.ndarray
     method: str
+    path: np.ndarray
+    regime: np.ndarray
+    label: str
 
 
-def nu_from_eps(eps: ArrayLike) -> np.ndarray:
-    """ν = (1 − ε)/(1 + ε), §I eq. (9): the normal velocity the cushion gives back."""
-    eps = np.asarray(eps, dtype=float)
-    return (1 - eps) / (1 + eps)
+def elementary_applies(chi0: ArrayLike, p0: ArrayLike, n0: ArrayLike, R: ArrayLike, j: ArrayLike) -> np.ndarray:
+    """Where the slip keeps its direction and the elementary closed form is exact: n0 = 0 (no rotation about the
+    cushion's direction), φ0 = χ0 − p0R = 0 (no slip along the cushion) or j = 0 (no friction)."""
+    chi0, p0, n0, R, j = (np.asarray(a, dtype=float) for a in (chi0, p0, n0, R, j))
+    return (n0 == 0) | (chi0 - p0 * R == 0) | (j == 0)
+
+
+def _elementary(phi0: np.ndarray, psi0: np.ndarray, k: np.ndarray, budget: np.ndarray) -> tuple[np.ndarray, ...]:
+    """One slip component only (the module docstring's special cases): it falls linearly in π until it stops,
+    at the rate j(1 + k) along the cushion (ψ0 = 0) or jk across it (φ0 = 0)."""
+    f1 = np.where(psi0 == 0, np.maximum(phi0 - (1 + k) * budget, 0.0), phi0)
+    s1 = np.where(phi0 == 0, np.maximum(psi0 - k * budget, 0.0), psi0)
+    return f1, s1
 
 
 def _exact(phi0: np.ndarray, psi0: np.ndarray, k: np.ndarray, budget: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -95,15 +112,17 @@ def _ode(chi0: np.ndarray, pR0: np.ndarray, nR0: np.ndarray, k: np.ndarray, j: n
         if jj == 0 or pi_end[idx] == 0 or scale == 0:
             out[(slice(None), *idx)] = y0
             continue
-        tiny = 1e-12 * scale
+        e0 = np.array([y0[0] - y0[1], y0[2]]) / np.hypot(y0[0] - y0[1], y0[2])
 
         def rhs(_pi: float, y: np.ndarray, kk: float = kk, jj: float = jj) -> list[float]:
             phi, psi = y[0] - y[1], y[2]
             v = max(np.hypot(phi, psi), 1e-300)
             return [-jj * phi / v, kk * jj * phi / v, -kk * jj * psi / v]
 
-        def stops(_pi: float, y: np.ndarray, tiny: float = tiny) -> float:
-            return float(np.hypot(y[0] - y[1], y[2])) - tiny
+        def stops(_pi: float, y: np.ndarray, e0: np.ndarray = e0) -> float:
+            # the slip projected on its initial direction: both components keep their signs and reach zero
+            # together, so this crosses zero cleanly where |slip| − tiny would chatter (ARCHITECTURE.md)
+            return float((y[0] - y[1]) * e0[0] + y[2] * e0[1])
 
         stops.terminal = True
         sol = solve_ivp(rhs, (0.0, pi_end[idx]), y0, method="DOP853", rtol=1e-11, atol=1e-14 * scale,
@@ -113,11 +132,10 @@ def _ode(chi0: np.ndarray, pR0: np.ndarray, nR0: np.ndarray, k: np.ndarray, j: n
 
 
 def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLike, R: ArrayLike,
-                   k: ArrayLike = 2.5, j: ArrayLike = 0.20, eps: ArrayLike = 0.29,
-                   method: str = "auto") -> CushionImpact:
-    """The cushion impact of §IV by the chosen path (module docstring); ``auto`` takes the cheapest exact
-    path for each scene: no friction or no slip → nothing changes; n0 = 0 or φ0 = 0 → elementary closed
-    form; otherwise the hypergeometric closed form with a bisection."""
+                   k: ArrayLike, j: ArrayLike, eps: ArrayLike, method: str = "exact") -> CushionImpact:
+    """The cushion impact of §IV by the chosen path (module docstring): ``exact`` (₂F₁ and bisection, every
+    scene), ``elementary`` (only where ``elementary_applies``), ``resal``, ``resal-corrected``, ``ode``.
+    ``registry`` chooses per scene for ``auto``."""
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     chi0, zeta0, p0, n0, R, k, j, eps = np.broadcast_arrays(
@@ -128,9 +146,14 @@ def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLi
     sphi, spsi = np.sign(phi0), np.sign(psi0)
     f0, s0 = np.abs(phi0), np.abs(psi0)
     budget = j * (1 + nu) * a
-    if method in ("auto", "exact"):
+    if method == "exact":
         f1, s1 = _exact(f0, s0, k, budget)
-        label = "closed form (elementary where n0 = 0 or φ0 = 0, else ₂F₁ and bisection)"
+        label = "closed form (₂F₁ and bisection)"
+    elif method == "elementary":
+        if not np.all(elementary_applies(chi0, p0, n0, R, j)):
+            raise ValueError("the elementary cushion form handles only n0 = 0, φ0 = χ0 − p0R = 0 or j = 0")
+        f1, s1 = _elementary(f0, s0, k, budget)
+        label = "elementary closed form (the slip keeps its direction)"
     elif method == "ode":
         chi1, pR1, nR1 = _ode(chi0, p0 * R, n0 * R, k, j, (1 + nu) * a)
         f1, s1 = np.abs(chi1 - pR1) * (np.sign(chi1 - pR1) == sphi), np.abs(nR1) * (np.sign(nR1) == spsi)
@@ -144,5 +167,7 @@ def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLi
                  else "Résal's first-order eq. (11), exponent 2/(1 + k) as derived")
     phi1, psi1 = sphi * f1, spsi * s1
     chi1 = (k * chi0 + p0 * R + phi1) / (1 + k)  # eq. (9)
-    return CushionImpact(chi1=chi1, zeta1=nu * a, p1=(chi1 - phi1) / R, n1=psi1 / R,
-                         slip_stops=(f1 == 0) & (s1 == 0) & ((f0 > 0) | (s0 > 0)), method=label)
+    moving = (f0 > 0) | (s0 > 0)
+    regime = np.where(~moving, Regime.NO_SLIP, np.where((f1 == 0) & (s1 == 0), Regime.GRIP, Regime.SLIDE))
+    return CushionImpact(chi1=chi1, zeta1=nu * a, p1=(chi1 - phi1) / R, n1=psi1 / R, method=method,
+                         path=codes(chi1.shape, _CODES[method]), regime=regime.astype(np.int8), label=label)

@@ -20,31 +20,53 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .paths import PathCode, Regime, codes
+
 __all__ = [
     "DirectImpact",
+    "WallImpact",
     "denominator",
     "denominator_from_striker_ratio",
     "denominator_from_struck_ratio",
     "direct_impact",
     "eps_from_height_ratio",
     "eps_from_newton",
+    "eps_from_nu",
     "eps_from_velocity_ratio",
     "infinite_mass_impact",
     "newton_restitution",
+    "nu_from_eps",
     "velocity_ratio_from_eps",
     "vis_viva_loss",
+    "wall_impact",
 ]
 
 
 @dataclass(frozen=True)
 class DirectImpact:
-    """Outcome of a direct impact (§I n°5, eq. 7). Arrays broadcast from the inputs."""
+    """Outcome of a direct impact (§I n°5, eq. 7). Arrays broadcast from the inputs; ``method``, ``path``,
+    ``regime`` and ``label`` follow the convention of ``paths``."""
 
     V1: np.ndarray
     V1p: np.ndarray
     newton_e: np.ndarray
     vis_viva_lost: np.ndarray
     method: str
+    path: np.ndarray
+    regime: np.ndarray
+    label: str
+
+
+@dataclass(frozen=True)
+class WallImpact:
+    """Outcome of an impact on an immovable mass (§I n°5, eq. 9)."""
+
+    V1: np.ndarray
+    ratio: np.ndarray  # −V1/V0
+    method: str
+    path: np.ndarray
+    regime: np.ndarray
+    label: str
 
 
 def vis_viva_loss(
@@ -78,7 +100,16 @@ def direct_impact(
     V1p = V0p + (M / Mp) * delta
     lost = M * (V0**2 - V1**2) + Mp * (V0p**2 - V1p**2)
     return DirectImpact(V1=V1, V1p=V1p, newton_e=newton_restitution(M, Mp, eps, epsp), vis_viva_lost=lost,
-                        method="closed form, §I eq. (7)")
+                        method="exact", path=codes(V1.shape, PathCode.EXACT),
+                        regime=codes(V1.shape, Regime.FRICTIONLESS), label="closed form, §I eq. (7)")
+
+
+def wall_impact(V0: ArrayLike, *, eps: ArrayLike) -> WallImpact:
+    """Impact on an immovable mass, eq. (9) §I n°5, as a result of the shared convention."""
+    V0, eps = np.broadcast_arrays(np.asarray(V0, dtype=float), np.asarray(eps, dtype=float))
+    r = velocity_ratio_from_eps(eps)
+    return WallImpact(V1=-r * V0, ratio=r, method="exact", path=codes(V0.shape, PathCode.EXACT),
+                      regime=codes(V0.shape, Regime.FRICTIONLESS), label="closed form, §I eq. (9)")
 
 
 def infinite_mass_impact(V0: ArrayLike, eps: ArrayLike) -> np.ndarray:
@@ -87,15 +118,22 @@ def infinite_mass_impact(V0: ArrayLike, eps: ArrayLike) -> np.ndarray:
 
 
 def velocity_ratio_from_eps(eps: ArrayLike) -> np.ndarray:
-    """The ratio −V1/V0 = (1 − ε)/(1 + ε) of an impact on an immovable mass, eq. (9) §I n°5."""
+    """The ratio −V1/V0 = (1 − ε)/(1 + ε) of an impact on an immovable mass, eq. (9) §I n°5: the yield ν of
+    the normal velocity (§III, §IV) and Newton's e of a ball on a wall are this same number."""
     eps = np.asarray(eps, dtype=float)
     return (1.0 - eps) / (1.0 + eps)
+
+
+nu_from_eps = velocity_ratio_from_eps  # ν = (1 − ε)/(1 + ε): the one ε ↔ ν ↔ e map, eq. (9)
 
 
 def eps_from_velocity_ratio(ratio: ArrayLike) -> np.ndarray:
     """Inverse of eq. (9), §I n°5: ε = (1 − r)/(1 + r) for a measured r = −V1/V0 in [0, 1]."""
     r = np.asarray(ratio, dtype=float)
     return (1.0 - r) / (1.0 + r)
+
+
+eps_from_nu = eps_from_velocity_ratio  # ε = (1 − ν)/(1 + ν), the inverse map
 
 
 def eps_from_height_ratio(height_ratio: ArrayLike) -> np.ndarray:

@@ -23,10 +23,13 @@ numerically as the check.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
+
+from .paths import PathCode, Regime, codes
 
 __all__ = [
     "PlaneImpact",
@@ -41,18 +44,26 @@ __all__ = [
     "spinless_launch",
 ]
 
-METHODS = ("auto", "exact", "resal")
+METHODS = ("exact", "resal")
 
 
 @dataclass(frozen=True)
 class PlaneImpact:
-    """Velocities after the impact, and whether the contact slid during the whole impact."""
+    """Velocities after the impact; ``regime``: SLIDE (the contact slid during the whole impact), GRIP (the slip
+    stopped, then the contact rolled) or NO_SLIP (v_x0 = 0)."""
 
     chi1: np.ndarray
     zeta1: np.ndarray
     p1: np.ndarray
-    sliding: np.ndarray
     method: str
+    path: np.ndarray
+    regime: np.ndarray
+    label: str
+
+
+def plane_regime(v0: np.ndarray, sliding: np.ndarray) -> np.ndarray:
+    """The ``Regime`` of a plane impact from the initial slip and the slide condition."""
+    return np.where(v0 == 0, Regime.NO_SLIP, np.where(sliding, Regime.SLIDE, Regime.GRIP)).astype(np.int8)
 
 
 def _arrays(*args: ArrayLike) -> list[np.ndarray]:
@@ -67,12 +78,12 @@ def slides_throughout(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, R: Array
 
 
 def plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, R: ArrayLike, k: ArrayLike, f: ArrayLike,
-                 nu: ArrayLike, method: str = "auto") -> PlaneImpact:
+                 nu: ArrayLike, method: str = "exact") -> PlaneImpact:
     """Impact of a sphere on a fixed plane (§III n°8).
 
     ``method="resal"``: eqs (6) as derived by Résal, sliding assumed throughout (wrong where the slip stops).
-    ``"exact"``/``"auto"``: the outcome in both regimes (module docstring); it costs no more than (6), so
-    ``auto`` always takes it. ζ0 must be negative (approaching); ζ1 = −ν ζ0 in every path.
+    ``"exact"``: the outcome in both regimes (module docstring). ζ0 must be negative (approaching); ζ1 = −ν ζ0
+    in every path. The ODE path is ``reference.integrate_plane_impact``; ``registry`` chooses among them.
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
@@ -84,13 +95,15 @@ def plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, R: ArrayLike,
         s = np.sign(v0)
         chi1 = chi0 + s * f * (1 + nu) * zeta0
         pR1 = p0 * R - s * f * k * (1 + nu) * zeta0
-        label = "Résal's eqs (6), §III n°8 (sliding assumed)"
+        label, code = "Résal's eqs (6), §III n°8 (sliding assumed)", PathCode.RESAL
     else:
         dv = -np.sign(v0) * np.minimum(np.abs(v0), budget)
         chi1 = chi0 + dv / (1 + k)
         pR1 = p0 * R - k * dv / (1 + k)
-        label = "closed form, both regimes (slide / slip stops then rolls)"
-    return PlaneImpact(chi1=chi1, zeta1=-nu * zeta0, p1=pR1 / R, sliding=sliding, method=label)
+        label, code = "closed form, both regimes (slide / slip stops then rolls)", PathCode.EXACT
+    shape = np.shape(chi1)
+    return PlaneImpact(chi1=chi1, zeta1=-nu * zeta0, p1=pR1 / R, method=method, path=codes(shape, code),
+                       regime=plane_regime(np.broadcast_to(v0, shape), sliding), label=label)
 
 
 def range_ratio_resal(alpha0: ArrayLike, f: ArrayLike, nu: ArrayLike) -> np.ndarray:
@@ -113,7 +126,7 @@ def range_ratio_exact(alpha0: ArrayLike, f: ArrayLike, nu: ArrayLike, k: ArrayLi
     """
     alpha0, f, nu, k, spin = _arrays(alpha0, f, nu, k, spin)
     chi0, zeta0 = np.cos(alpha0), -np.sin(alpha0)
-    out = plane_impact(chi0, zeta0, spin, 1.0, k, f, nu, "exact")
+    out = plane_impact(chi0, zeta0, spin, 1.0, k, f, nu, method="exact")
     return nu * out.chi1 / chi0
 
 
@@ -127,36 +140,42 @@ class Ricochet:
     chi: np.ndarray  # χ after each impact
     zeta: np.ndarray  # ζ after each impact
     p: np.ndarray  # p after each impact
-    sliding: np.ndarray  # whether each impact slid throughout
+    regimes: np.ndarray  # the Regime of each impact
     method: str
+    path: np.ndarray
+    regime: np.ndarray  # the Regime of the first impact
+    label: str
 
 
 def ricochet(a0: ArrayLike, alpha0: ArrayLike, p0: ArrayLike, R: ArrayLike, k: ArrayLike, f: ArrayLike,
-             nu: ArrayLike, g: ArrayLike, n: int, method: str = "auto") -> Ricochet:
+             nu: ArrayLike, g: ArrayLike, n: int, method: str = "exact",
+             impact: Callable[..., PlaneImpact] | None = None) -> Ricochet:
     """Ricochets on a horizontal plane (§III n°9): impacts by ``plane_impact``, parabolic flights between.
 
     (a0, α0, p0) describe the ball arriving at the first impact: χ0 = a0 cos α0, ζ0 = −a0 sin α0. A flight
     keeps χ and p (no air), reverses ζ, lasts T = 2ζ/g and covers P = 2χζ/g. Vectorised over the batch.
+    ``impact`` replaces ``plane_impact`` (the ODE path passes the integrated impact).
     """
     a0, alpha0, p0, R, k, f, nu, g = np.broadcast_arrays(*_arrays(a0, alpha0, p0, R, k, f, nu, g))
     chi, zeta, p = a0 * np.cos(alpha0), -a0 * np.sin(alpha0), p0
-    cols: dict[str, list[np.ndarray]] = {"chi": [], "zeta": [], "p": [], "sliding": [], "P": [], "T": []}
+    cols: dict[str, list[np.ndarray]] = {"chi": [], "zeta": [], "p": [], "regime": [], "P": [], "T": []}
     label = ""
     for _ in range(n):
-        out = plane_impact(chi, zeta, p, R, k, f, nu, method)
-        label = out.method
+        out = (impact or plane_impact)(chi, zeta, p, R, k, f, nu, method=method)
+        label = out.label
         chi, zeta, p = out.chi1, out.zeta1, out.p1
         cols["chi"].append(chi)
         cols["zeta"].append(zeta)
         cols["p"].append(p)
-        cols["sliding"].append(out.sliding)
+        cols["regime"].append(out.regime)
         cols["T"].append(2 * zeta / g)
         cols["P"].append(2 * chi * zeta / g)
         zeta = -zeta  # lands with the normal velocity reversed
     st = {key: np.stack(v, axis=-1) for key, v in cols.items()}
     imprints = np.concatenate([np.zeros((*a0.shape, 1)), np.cumsum(st["P"], axis=-1)], axis=-1)
     return Ricochet(ranges=st["P"], times=st["T"], imprints=imprints, chi=st["chi"], zeta=st["zeta"], p=st["p"],
-                    sliding=st["sliding"].astype(bool), method=label + "; parabolic flights")
+                    regimes=st["regime"], method=method, path=codes(a0.shape, PathCode[method.upper()]),
+                    regime=st["regime"][..., 0], label=label + "; parabolic flights")
 
 
 def ricochet_ranges_spinless(nu: ArrayLike, A: ArrayLike, u: ArrayLike, k: ArrayLike, n: int) -> np.ndarray:

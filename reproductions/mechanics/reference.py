@@ -36,7 +36,7 @@ class ReferenceImpact:
 def _one(M: float, Mp: float, V0: float, V0p: float, e: float, rtol: float, atol: float) -> tuple[float, float, int]:
     if V0 <= V0p:  # no approach, no impact
         return V0, V0p, 0
-    mu = M * Mp / (M + Mp)
+    mu = M if math.isinf(Mp) else M * Mp / (M + Mp)  # M′ = ∞: an immovable mass
     K = mu  # time unit: the compression lasts π/2
     scale = V0 - V0p
 

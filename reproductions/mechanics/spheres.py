@@ -33,11 +33,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .paths import PathCode, Regime, codes
 from .slip import slip_decay
 
 __all__ = ["METHODS", "SpheresImpact", "contact_slip", "two_spheres"]
 
-METHODS = ("auto", "exact", "resal", "ode")
+METHODS = ("exact", "resal", "ode")
 
 
 @dataclass(frozen=True)
@@ -48,8 +49,10 @@ class SpheresImpact:
     w1p: np.ndarray
     omega1: np.ndarray  # χ0 − χ1
     T: np.ndarray  # tangential impulse on M′ (y, z components)
-    slip_stops: np.ndarray
     method: str
+    path: np.ndarray
+    regime: np.ndarray  # SLIDE: slips throughout; GRIP: the slip stops; NO_SLIP: none at first
+    label: str
 
 
 def contact_slip(v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, R: np.ndarray,
@@ -79,7 +82,7 @@ def _apply(M: np.ndarray, Mp: np.ndarray, R: np.ndarray, Rp: np.ndarray, k: np.n
 
 def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: ArrayLike, kp: ArrayLike,
                 v: ArrayLike, w: ArrayLike, vp: ArrayLike, wp: ArrayLike, f: ArrayLike, eps: ArrayLike,
-                epsp: ArrayLike, on_cloth: bool = False, method: str = "auto") -> SpheresImpact:
+                epsp: ArrayLike, on_cloth: bool = False, method: str = "exact") -> SpheresImpact:
     """The impact of §V (free balls) or §VI (``on_cloth``) by the chosen path (module docstring); v, w, vp,
     wp have the vector on the last axis; the other inputs broadcast over the batch. M must approach M′."""
     if method not in METHODS:
@@ -145,7 +148,8 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         T = np.stack([(s0[..., 0] - s1[..., 0]) / cy, (s0[..., 1] - s1[..., 1]) / cz], axis=-1)
         stops = (np.hypot(s1[..., 0], s1[..., 1]) <= 1e-12 * np.maximum(s0n, 1e-300)) & (s0n > 0)
     v1, w1, v1p, w1p = _apply(M, Mp, R, Rp, k, kp, v, w, vp, wp, xi, T, on_cloth)
-    return SpheresImpact(v1, w1, v1p, w1p, omega1, T, stops, label)
+    regime = np.where(s0n == 0, Regime.NO_SLIP, np.where(stops, Regime.GRIP, Regime.SLIDE)).astype(np.int8)
+    return SpheresImpact(v1, w1, v1p, w1p, omega1, T, method, codes(batch, PathCode[method.upper()]), regime, label)
 
 
 def _ode_slip(s0: np.ndarray, alpha: np.ndarray, beta: np.ndarray, tau_end: np.ndarray) -> np.ndarray:
@@ -164,8 +168,8 @@ def _ode_slip(s0: np.ndarray, alpha: np.ndarray, beta: np.ndarray, tau_end: np.n
             n = max(float(np.hypot(*y)), 1e-300)
             return [-a_ * y[0] / n, -b_ * y[1] / n]
 
-        def stops(_t: float, y: np.ndarray, tiny: float = 1e-12 * scale) -> float:
-            return float(np.hypot(*y)) - tiny
+        def stops(_t: float, y: np.ndarray, e0: np.ndarray = y0 / scale) -> float:
+            return float(y @ e0)  # the slip along its initial direction: crosses zero cleanly when it stops
 
         stops.terminal = True
         sol = solve_ivp(rhs, (0.0, tau_end[idx]), y0, method="DOP853", rtol=1e-11, atol=1e-14 * scale,
