@@ -166,3 +166,13 @@ def test_no_printed_coefficient_is_a_default():
         for prm in m.params:
             if prm.name in ("eps", "epsp", "nu", "f", "j"):
                 assert prm.default is None, (m.name, prm.name)
+
+
+def test_stress_sweep_reads_the_registry_and_finds_every_path_stable():
+    from reproductions import stress
+
+    rows = stress.registry_sweep(n=24, n_ode=2)
+    assert {(r["model"], r["path"]) for r in rows} == set(PAIRS)
+    for r in rows:
+        assert r["scenes"] > 0 and r["non_finite"] == 0, r
+        assert r["max_vis_viva_gain"] < stress.TOL, r
