@@ -396,7 +396,7 @@ def fit_direct_impact(
     M, Mp, V0, V1, V1p = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (M, Mp, V0, V1, V1p)))
 
     def res(theta: np.ndarray) -> np.ndarray:
-        out = impact.direct_impact(M, Mp, V0, 0.0, theta[0], theta[1])
+        out = impact.direct_impact(M, Mp, V0, 0.0, eps=theta[0], epsp=theta[1])
         return np.concatenate([out.V1 - V1, out.V1p - V1p])
 
     def jac(theta: np.ndarray) -> np.ndarray:
@@ -413,7 +413,7 @@ def fit_rebound(V0: np.ndarray, V1: np.ndarray, sigma: float | None = None) -> F
     V0, V1 = (np.asarray(a, dtype=float) for a in (V0, V1))
 
     def res(theta: np.ndarray) -> np.ndarray:
-        return impact.infinite_mass_impact(V0, theta[0]) - V1
+        return impact.infinite_mass_impact(V0, eps=theta[0]) - V1
 
     def jac(theta: np.ndarray) -> np.ndarray:
         return (2.0 * V0 / (1.0 + theta[0]) ** 2)[:, None]  # d/dε of −(1 − ε)/(1 + ε)·V0
@@ -509,7 +509,7 @@ def fit_physical_positions(x: np.ndarray, start: FitResult, *, R: float, k: floa
         return _positions_jac(phi(th), k, n) @ D / sx
 
     def res_model(th: np.ndarray) -> np.ndarray:  # the check: the ricochet model itself, not the closed form
-        r = plane.ricochet(th[2], th[3], 0.0, R, k, th[1], th[0], g, n)
+        r = plane.ricochet(th[2], th[3], 0.0, R=R, k=k, f=th[1], nu=th[0], g=g, n=n)
         return (r.imprints[1:] - x[1:]) / sx
 
     rss = float(np.sum(res_model(pts[2]) ** 2))
@@ -545,7 +545,7 @@ def fit_physical(x: np.ndarray, t: np.ndarray | None, start: FitResult, *, R: fl
     sx = max(_sigma_hat(start), 1e-9)
 
     def res(th: np.ndarray) -> np.ndarray:
-        r = plane.ricochet(th[2], th[3], p0, R, k, th[1], th[0], g, n)
+        r = plane.ricochet(th[2], th[3], p0, R=R, k=k, f=th[1], nu=th[0], g=g, n=n)
         out = (r.imprints[1:] - x[1:]) / sx
         if t is None:
             return out

@@ -24,7 +24,7 @@ def sweep() -> dict[str, float]:
     Mp, e1, e2, V0, V0p = np.meshgrid(ratio, eps, eps, speed, [0.0, -0.5], indexing="ij")
     V0p = V0p * V0
     M = np.ones_like(Mp)
-    r = impact.direct_impact(M, Mp, V0, V0p, e1, e2)
+    r = impact.direct_impact(M, Mp, V0, V0p, eps=e1, epsp=e2)
     p0 = M * V0 + Mp * V0p
     scale_p = M * np.abs(V0) + Mp * np.abs(V0p) + Mp * np.abs(r.V1p) + M * np.abs(r.V1)
     mom = np.abs(M * r.V1 + Mp * r.V1p - p0) / scale_p

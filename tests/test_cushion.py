@@ -22,8 +22,9 @@ def _scenes(n, seed):
 
 def test_exact_closed_form_matches_the_integration_in_both_regimes():
     args = _scenes(120, 1)
-    ex = cushion.cushion_impact(*args, method="exact")
-    ode = cushion.cushion_impact(*args, method="ode")
+    kw = dict(zip(("R", "k", "j", "eps"), args[4:], strict=True))
+    ex = cushion.cushion_impact(*args[:4], **kw, method="exact")
+    ode = cushion.cushion_impact(*args[:4], **kw, method="ode")
     assert 0.1 < (ex.regime == Regime.GRIP).mean() < 0.9
     a = -args[1]
     for u, v in ((ex.chi1, ode.chi1), (ex.p1 * R, ode.p1 * R), (ex.n1 * R, ode.n1 * R)):
@@ -35,13 +36,13 @@ def test_special_cases_have_elementary_forms():
     # no rotation about the cushion's direction (n0 = 0): the slip keeps its direction, like §III
     chi0, zeta0, p0, j, eps = 1.5, -1.0, 10.0, 0.2, 0.29
     nu = float(impact.nu_from_eps(eps))
-    out = cushion.cushion_impact(chi0, zeta0, p0, 0.0, R, K, j, eps)
+    out = cushion.cushion_impact(chi0, zeta0, p0, 0.0, R=R, k=K, j=j, eps=eps)
     phi0 = chi0 - p0 * R
     phi1 = phi0 - j * (1 + K) * (1 + nu) * 1.0
     assert float(out.chi1) == pytest.approx((K * chi0 + p0 * R + phi1) / (1 + K), rel=1e-12)
     assert float(out.n1) == 0.0
     # frictionless: nothing tangential changes, ζ1 = ν a
-    free = cushion.cushion_impact(chi0, zeta0, p0, 20.0, R, K, 0.0, eps)
+    free = cushion.cushion_impact(chi0, zeta0, p0, 20.0, R=R, k=K, j=0.0, eps=eps)
     assert (float(free.chi1), float(free.p1), float(free.n1)) == pytest.approx((chi0, p0, 20.0))
     assert float(free.zeta1) == pytest.approx(nu)
 
@@ -50,11 +51,12 @@ def test_special_cases_have_elementary_forms():
 @pytest.mark.parametrize("method", [m for m in cushion.METHODS if m != "elementary"])
 def test_every_path_never_gains_energy_and_is_mirror_symmetric(method):
     chi0, zeta0, p0, n0, _, _, j, eps = _scenes(60, 2)
-    out = cushion.cushion_impact(chi0, zeta0, p0, n0, R, K, j, eps, method)
+    out = cushion.cushion_impact(chi0, zeta0, p0, n0, R=R, k=K, j=j, eps=eps, method=method)
     T0 = chi0**2 + zeta0**2 + R * R / K * (p0**2 + n0**2)
     T1 = out.chi1**2 + out.zeta1**2 + R * R / K * (out.p1**2 + out.n1**2)
     assert np.all(T1 <= T0 * (1 + 1e-9))
-    mirror = cushion.cushion_impact(-chi0, zeta0, -p0, n0, R, K, j, eps, method)  # θ → −θ, side spin flipped
+    mirror = cushion.cushion_impact(-chi0, zeta0, -p0, n0, R=R, k=K, j=j, eps=eps,
+                                    method=method)  # θ → −θ, side spin flipped
     np.testing.assert_allclose(mirror.chi1, -out.chi1, atol=1e-9)
     np.testing.assert_allclose(mirror.p1, -out.p1, atol=1e-7)
     np.testing.assert_allclose(mirror.n1, out.n1, atol=1e-7)
@@ -67,8 +69,8 @@ def test_order_of_resal_approximation_in_j(method, order):
     chi0, zeta0, p0, n0 = 1.0, -1.0, 0.0, -1.0 / R
     errs = []
     for j in (0.01, 0.02, 0.04):
-        ex = cushion.cushion_impact(chi0, zeta0, p0, n0, R, K, j, 0.29, "exact")
-        ap = cushion.cushion_impact(chi0, zeta0, p0, n0, R, K, j, 0.29, method)
+        ex = cushion.cushion_impact(chi0, zeta0, p0, n0, R=R, k=K, j=j, eps=0.29, method="exact")
+        ap = cushion.cushion_impact(chi0, zeta0, p0, n0, R=R, k=K, j=j, eps=0.29, method=method)
         errs.append(abs(float(ap.chi1 - ex.chi1)))
     for a, b in itertools.pairwise(errs):
         assert 2 ** (order - 0.5) < b / a < 2 ** (order + 0.5)

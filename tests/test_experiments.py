@@ -97,7 +97,7 @@ def test_user_csv_rebounds_are_fitted(tmp_path):
 
     rng = np.random.default_rng(5)
     V0 = rng.uniform(0.5, 5, 30)
-    V1 = impact.infinite_mass_impact(V0, 0.35) * (1 + 0.02 * rng.standard_normal(30))
+    V1 = impact.infinite_mass_impact(V0, eps=0.35) * (1 + 0.02 * rng.standard_normal(30))
     rows = "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in zip(V0, V1, strict=True))
     (tmp_path / "trials.csv").write_text("V0,V1\n" + rows)
     text = (api.config_dir() / "coriolis-cushion.yaml").read_text()
@@ -116,7 +116,7 @@ def test_user_csv_with_two_mass_ratios_separates_eps_and_epsp(tmp_path):
     lines = ["V0,V1,V1p,M,Mp"]
     for M, Mp in ((0.6, 0.2), (0.2, 0.4)):
         for V0 in (1.0, 2.0):
-            r = impact.direct_impact(M, Mp, V0, 0.0, 0.1, 0.25)
+            r = impact.direct_impact(M, Mp, V0, 0.0, eps=0.1, epsp=0.25)
             lines.append(f"{V0},{float(r.V1)!r},{float(r.V1p)!r},{M},{Mp}")
     (tmp_path / "trials.csv").write_text("\n".join(lines) + "\n")
     text = (api.config_dir() / "coriolis-pendulum.yaml").read_text()

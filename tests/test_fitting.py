@@ -10,7 +10,7 @@ from reproductions.mechanics import impact
 def test_one_mass_ratio_determines_only_a_combination():
     M, Mp = 3.0, 1.0
     V0 = np.array([1.0, 2.0, 2.8])
-    r = impact.direct_impact(M, Mp, V0, 0.0, 0.1, 0.2)
+    r = impact.direct_impact(M, Mp, V0, 0.0, eps=0.1, epsp=0.2)
     fit = fitting.fit_direct_impact(M, Mp, V0, r.V1, r.V1p)
     assert fit.identifiability.rank == 1
     assert not any(e.identifiable for e in fit.estimates)
@@ -23,7 +23,7 @@ def test_one_mass_ratio_determines_only_a_combination():
     assert fit.family.holds  # the model depends on a linear combination: the tangent segment is exact
     for end in (a, b):  # both ends of the family lie on the bounds and reproduce the data
         assert min(end) == pytest.approx(0.0, abs=1e-9)
-        out = impact.direct_impact(M, Mp, V0, 0.0, *end)
+        out = impact.direct_impact(M, Mp, V0, 0.0, eps=end[0], epsp=end[1])
         np.testing.assert_allclose(out.V1p, r.V1p, rtol=1e-8)
 
 
@@ -31,7 +31,7 @@ def test_two_mass_ratios_separate_eps_and_epsp():
     M = np.array([3.0, 3.0, 1.0, 1.0])
     Mp = np.array([1.0, 1.0, 2.0, 2.0])
     V0 = np.array([1.0, 2.0, 1.0, 2.0])
-    r = impact.direct_impact(M, Mp, V0, 0.0, 0.15, 0.35)
+    r = impact.direct_impact(M, Mp, V0, 0.0, eps=0.15, epsp=0.35)
     fit = fitting.fit_direct_impact(M, Mp, V0, r.V1, r.V1p)
     assert fit.identifiability.rank == 2
     assert fit.estimate("eps").value == pytest.approx(0.15, abs=1e-7)
@@ -44,7 +44,7 @@ def test_rebound_interval_covers_the_truth_about_95_percent():
     for seed in range(n_seeds):
         rng = np.random.default_rng(seed)
         V0 = rng.uniform(0.5, 7.0, 15)
-        V1 = impact.infinite_mass_impact(V0, truth) + 0.05 * rng.standard_normal(15)
+        V1 = impact.infinite_mass_impact(V0, eps=truth) + 0.05 * rng.standard_normal(15)
         lo, hi = fitting.fit_rebound(V0, V1).estimate("eps").ci95
         hits += lo <= truth <= hi
     assert 0.91 <= hits / n_seeds <= 0.99
@@ -52,14 +52,14 @@ def test_rebound_interval_covers_the_truth_about_95_percent():
 
 def test_given_sigma_scales_the_standard_error():
     V0 = np.array([1.0, 2.0, 3.0])
-    V1 = impact.infinite_mass_impact(V0, 0.3)
+    V1 = impact.infinite_mass_impact(V0, eps=0.3)
     se1 = fitting.fit_rebound(V0, V1, sigma=0.01).estimate("eps").stderr
     se2 = fitting.fit_rebound(V0, V1, sigma=0.02).estimate("eps").stderr
     assert se2 == pytest.approx(2 * se1, rel=1e-6)
 
 
 def test_no_degree_of_freedom_and_no_sigma_claims_no_uncertainty():
-    fit = fitting.fit_rebound(np.array([2.0]), impact.infinite_mass_impact(np.array([2.0]), 0.4))
+    fit = fitting.fit_rebound(np.array([2.0]), impact.infinite_mass_impact(np.array([2.0]), eps=0.4))
     est = fit.estimate("eps")
     assert est.value == pytest.approx(0.4, abs=1e-9)
     assert fit.dof == 0 and fit.noise == "none"
@@ -80,11 +80,11 @@ def test_collinear_linear_model_is_reported_rank_deficient():
 def test_analytic_jacobians_match_finite_differences():
     M, Mp = np.array([3.0, 1.0]), np.array([1.0, 2.0])
     V0 = np.array([1.0, 2.0])
-    r = impact.direct_impact(M, Mp, V0, 0.0, 0.2, 0.3)
+    r = impact.direct_impact(M, Mp, V0, 0.0, eps=0.2, epsp=0.3)
     fit = fitting.fit_direct_impact(M, Mp, V0, r.V1, r.V1p)
 
     def res(t):
-        out = impact.direct_impact(M, Mp, V0, 0.0, t[0], t[1])
+        out = impact.direct_impact(M, Mp, V0, 0.0, eps=t[0], epsp=t[1])
         return np.concatenate([out.V1 - r.V1, out.V1p - r.V1p])
 
     J_fd = fitting._jacobian(res, np.array(fit.point))

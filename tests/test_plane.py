@@ -17,10 +17,14 @@ def _scenes(n, seed):
             rng.choice([2.5, 1.5, 5 / 3], n), rng.uniform(0, 0.8, n), rng.uniform(0.05, 1.0, n))
 
 
+def _kw(args):
+    return dict(zip(("R", "k", "f", "nu"), args[3:], strict=True))
+
+
 def test_closed_form_matches_the_impulse_integration_in_both_regimes():
     args = _scenes(300, 1)
-    exact = plane.plane_impact(*args)
-    ref = reference.integrate_plane_impact(*args)
+    exact = plane.plane_impact(*args[:3], **_kw(args))
+    ref = reference.integrate_plane_impact(*args[:3], **_kw(args))
     assert 0.2 < (exact.regime == Regime.SLIDE).mean() < 0.8  # both regimes are exercised
     np.testing.assert_allclose(exact.chi1, ref.chi1, atol=1e-10)
     np.testing.assert_allclose(exact.zeta1, ref.zeta1, atol=1e-10)
@@ -31,8 +35,8 @@ def test_closed_form_matches_the_impulse_integration_in_both_regimes():
 
 def test_resal_eqs_6_are_exact_only_while_the_contact_slides():
     args = _scenes(300, 2)
-    exact = plane.plane_impact(*args)
-    resal = plane.plane_impact(*args, method="resal")
+    exact = plane.plane_impact(*args[:3], **_kw(args))
+    resal = plane.plane_impact(*args[:3], **_kw(args), method="resal")
     s = (exact.regime == Regime.SLIDE)
     np.testing.assert_allclose(resal.chi1[s], exact.chi1[s], atol=1e-12)
     assert np.all(np.abs(resal.chi1[~s] - exact.chi1[~s]) > 0)
@@ -42,7 +46,7 @@ def test_outcome_is_continuous_across_the_slide_grip_boundary():
     zeta0, R, k, f, nu = -1.0, 0.03, 2.5, 0.3, 0.7
     boundary = f * (1 + k) * (1 + nu) * abs(zeta0)  # χ0 at which the slip stops exactly at the end
     chi0 = boundary * np.array([1 - 1e-9, 1.0, 1 + 1e-9])
-    out = plane.plane_impact(chi0, zeta0, 0.0, R, k, f, nu)
+    out = plane.plane_impact(chi0, zeta0, 0.0, R=R, k=k, f=f, nu=nu)
     assert list(out.regime == Regime.SLIDE) == [False, True, True]
     assert np.ptp(out.chi1) < 1e-8 and np.ptp(out.p1 * R) < 1e-8
 
@@ -50,7 +54,7 @@ def test_outcome_is_continuous_across_the_slide_grip_boundary():
 @given(st.floats(-5, 5), st.floats(-5, -0.01), st.floats(-100, 100), st.floats(0, 1), st.floats(0.01, 1))
 def test_energy_is_never_gained_and_the_slip_never_reverses(chi0, zeta0, p0, f, nu):
     R, k = 0.03, 2.5
-    out = plane.plane_impact(chi0, zeta0, p0, R, k, f, nu)
+    out = plane.plane_impact(chi0, zeta0, p0, R=R, k=k, f=f, nu=nu)
     # kinetic energy per unit mass, translation + rotation (I = M R²/k)
     T0 = chi0**2 + zeta0**2 + (p0 * R) ** 2 / k
     T1 = out.chi1**2 + out.zeta1**2 + (out.p1 * R) ** 2 / k
@@ -61,11 +65,11 @@ def test_energy_is_never_gained_and_the_slip_never_reverses(chi0, zeta0, p0, f, 
 
 def test_ricochet_matches_impacts_and_flights_integrated_one_by_one():
     a0, alpha0, p0, R, k, f, nu, g, n = 2.0, math.radians(25), 10.0, 0.03, 2.5, 0.25, 0.75, 9.81, 8
-    r = plane.ricochet(a0, alpha0, p0, R, k, f, nu, g, n)
+    r = plane.ricochet(a0, alpha0, p0, R=R, k=k, f=f, nu=nu, g=g, n=n)
     chi, zeta, p = a0 * math.cos(alpha0), -a0 * math.sin(alpha0), p0
     x = 0.0
     for j in range(n):
-        out = reference.integrate_plane_impact(chi, zeta, p, R, k, f, nu)
+        out = reference.integrate_plane_impact(chi, zeta, p, R=R, k=k, f=f, nu=nu)
         chi, zeta, p = float(out.chi1), float(out.zeta1), float(out.p1)
         P, T = reference.integrate_flight(chi, zeta, g)
         assert float(P) == pytest.approx(r.ranges[j], rel=1e-9)
@@ -81,7 +85,7 @@ def test_spinless_closed_form_of_the_ranges_matches_the_ricochet():
     rng = np.random.default_rng(4)
     for _ in range(50):
         a0, alpha0, f, nu = rng.uniform(0.5, 4), rng.uniform(0.05, 1.2), rng.uniform(0, 0.6), rng.uniform(0.1, 1)
-        r = plane.ricochet(a0, alpha0, 0.0, 0.03, 2.5, f, nu, 9.81, 10)
+        r = plane.ricochet(a0, alpha0, 0.0, R=0.03, k=2.5, f=f, nu=nu, g=9.81, n=10)
         A = 2 * a0**2 * math.sin(alpha0) * math.cos(alpha0) / 9.81
         np.testing.assert_allclose(plane.ricochet_ranges_spinless(nu, A, f * math.tan(alpha0), 2.5, 10), r.ranges,
                                    rtol=1e-10, atol=1e-14)
@@ -90,15 +94,15 @@ def test_spinless_closed_form_of_the_ranges_matches_the_ricochet():
 def test_range_ratio_8_is_exact_while_sliding_and_9_is_its_small_angle_limit():
     alpha = np.radians(np.linspace(1, 60, 60))
     f, nu, k = 0.2, 0.8, 2.5
-    exact = plane.range_ratio_exact(alpha, f, nu, k)
+    exact = plane.range_ratio_exact(alpha, f=f, nu=nu, k=k)
     slides = f * (1 + k) * (1 + nu) * np.tan(alpha) <= 1
-    np.testing.assert_allclose(plane.range_ratio_resal(alpha, f, nu)[slides], exact[slides], rtol=1e-12)
-    assert np.all(np.abs(plane.range_ratio_resal(alpha, f, nu)[~slides] - exact[~slides]) > 1e-3)
+    np.testing.assert_allclose(plane.range_ratio_resal(alpha, f=f, nu=nu)[slides], exact[slides], rtol=1e-12)
+    assert np.all(np.abs(plane.range_ratio_resal(alpha, f=f, nu=nu)[~slides] - exact[~slides]) > 1e-3)
     # gripping regime: the ball leaves rolling, χ1 = kχ0/(1 + k)
     np.testing.assert_allclose(exact[~slides], nu * k / (1 + k), rtol=1e-12)
-    assert plane.range_ratio_exact(1e-8, f, nu, k) == pytest.approx(float(plane.range_ratio_small_angle(nu)))
+    assert plane.range_ratio_exact(1e-8, f=f, nu=nu, k=k) == pytest.approx(float(plane.range_ratio_small_angle(nu)))
 
 
 def test_plane_impact_rejects_an_unknown_method():
     with pytest.raises(ValueError, match="method"):
-        plane.plane_impact(1.0, -1.0, 0.0, 0.03, 2.5, 0.2, 0.8, method="fast")
+        plane.plane_impact(1.0, -1.0, 0.0, R=0.03, k=2.5, f=0.2, nu=0.8, method="fast")

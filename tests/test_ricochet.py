@@ -65,7 +65,7 @@ def _user_config(tmp_path, csv_text):
 
 
 def test_a_users_imprint_series_is_fitted_and_checked(tmp_path):
-    r = plane.ricochet(2.0, 0.4, 0.0, 0.0305, 2.5, 0.2, 0.8, 9.81, 9)
+    r = plane.ricochet(2.0, 0.4, 0.0, R=0.0305, k=2.5, f=0.2, nu=0.8, g=9.81, n=9)
     x = r.imprints[:10] + 0.3 + np.random.default_rng(0).normal(0, 2e-4, 10)
     cfg = _user_config(tmp_path, "x\n" + "".join(f"{float(v)!r}\n" for v in x))
     out = api.run(api.load(str(cfg)))
@@ -135,7 +135,7 @@ def test_positions_alone_give_an_exact_family_of_launches():
     base = None
     for al in np.linspace(a_lo, a_hi, 7):
         f, a0 = plane.spinless_launch(A, u, p.g, al)
-        r = plane.ricochet(a0, al, 0.0, p.R, p.k, f, nu, p.g, x.size - 1)
+        r = plane.ricochet(a0, al, 0.0, R=p.R, k=p.k, f=f, nu=nu, g=p.g, n=x.size - 1)
         rss = float(np.sum((r.imprints - x) ** 2))
         base = rss if base is None else base
         assert rss == pytest.approx(base, rel=1e-9)

@@ -21,8 +21,9 @@ def _vis_viva(s, Mp):
 @pytest.mark.parametrize("on_cloth", [False, True])
 def test_exact_matches_integration_conserves_momentum_and_never_gains(on_cloth):
     v, w, vp, wp, Mp, f, eps, epsp = _random(5, 200, on_cloth)
-    ex = spheres.two_spheres(M, Mp, R, R, K, K, v, w, vp, wp, f, eps, epsp, on_cloth, "exact")
-    ode = spheres.two_spheres(M, Mp, R, R, K, K, v, w, vp, wp, f, eps, epsp, on_cloth, "ode")
+    ex = spheres.two_spheres(M, Mp, R, R, K, K, v, w, vp, wp, f=f, eps=eps, epsp=epsp, on_cloth=on_cloth,
+                             method="exact")
+    ode = spheres.two_spheres(M, Mp, R, R, K, K, v, w, vp, wp, f=f, eps=eps, epsp=epsp, on_cloth=on_cloth, method="ode")
     np.testing.assert_allclose(ex.v1, ode.v1, atol=1e-10)
     np.testing.assert_allclose(ex.w1 * R, ode.w1 * R, atol=1e-10)
     assert 0.05 < (ex.regime == Regime.GRIP).mean() < 0.95  # both regimes
@@ -36,16 +37,17 @@ def test_exact_matches_integration_conserves_momentum_and_never_gains(on_cloth):
 
 def test_free_exact_equals_resal_eq8_while_the_balls_slide():
     v, w, vp, wp, Mp, f, eps, epsp = _random(6, 300, False)
-    ex = spheres.two_spheres(M, Mp, R, R, K, K, v, w, vp, wp, f, eps, epsp, method="exact")
-    rs = spheres.two_spheres(M, Mp, R, R, K, K, v, w, vp, wp, f, eps, epsp, method="resal")
+    ex = spheres.two_spheres(M, Mp, R, R, K, K, v, w, vp, wp, f=f, eps=eps, epsp=epsp, method="exact")
+    rs = spheres.two_spheres(M, Mp, R, R, K, K, v, w, vp, wp, f=f, eps=eps, epsp=epsp, method="resal")
     slide = ~(ex.regime == Regime.GRIP)
     np.testing.assert_allclose(ex.v1[slide], rs.v1[slide], atol=1e-12)
     assert np.max(np.abs(ex.v1[~slide] - rs.v1[~slide])) > 1e-3
 
 
 def test_frictionless_head_on_is_section_I_eq_7_and_equal_eps_removes_f_from_the_normal_impulse():
-    s = spheres.two_spheres(M, 0.3, R, R, K, K, [1.5, 0, 0], [0, 0, 0], [-0.2, 0, 0], [0, 0, 0], 0.0, 0.2, 0.4)
-    d = impact.direct_impact(M, 0.3, 1.5, -0.2, 0.2, 0.4)
+    s = spheres.two_spheres(M, 0.3, R, R, K, K, [1.5, 0, 0], [0, 0, 0], [-0.2, 0, 0], [0, 0, 0], f=0.0, eps=0.2,
+                            epsp=0.4)
+    d = impact.direct_impact(M, 0.3, 1.5, -0.2, eps=0.2, epsp=0.4)
     assert float(s.v1[0]) == pytest.approx(float(d.V1), rel=1e-12)
     assert float(s.v1p[0]) == pytest.approx(float(d.V1p), rel=1e-12)
     base = dict(v=[1.5, 0.8, 0.3], w=[0, 0, 0], vp=[0, 0, 0], wp=[0, 0, 0])
@@ -55,10 +57,11 @@ def test_frictionless_head_on_is_section_I_eq_7_and_equal_eps_removes_f_from_the
 
 def test_mirror_symmetry():
     v, w, vp, wp, Mp, f, eps, epsp = _random(7, 50, True)
-    a = spheres.two_spheres(M, Mp, R, R, K, K, v, w, vp, wp, f, eps, epsp, True)
+    a = spheres.two_spheres(M, Mp, R, R, K, K, v, w, vp, wp, f=f, eps=eps, epsp=epsp, on_cloth=True)
     flip = np.array([1.0, -1.0, 1.0])  # y → −y: velocities flip y, rotations flip x and z
     wflip = np.array([-1.0, 1.0, -1.0])
-    b = spheres.two_spheres(M, Mp, R, R, K, K, v * flip, w * wflip, vp * flip, wp * wflip, f, eps, epsp, True)
+    b = spheres.two_spheres(M, Mp, R, R, K, K, v * flip, w * wflip, vp * flip, wp * wflip, f=f, eps=eps, epsp=epsp,
+                            on_cloth=True)
     np.testing.assert_allclose(b.v1, a.v1 * flip, atol=1e-12)
     np.testing.assert_allclose(b.w1, a.w1 * wflip, atol=1e-9)
 

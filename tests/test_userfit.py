@@ -30,7 +30,7 @@ def test_rebound_heights_recover_eps(tmp_path):
 
 def test_pendulum_with_one_mass_ratio_reports_the_combination(tmp_path):
     f = tmp_path / "trials.csv"
-    r = impact.direct_impact(0.6, 0.2, np.array([1.0, 2.0]), 0.0, 0.1, 0.2)
+    r = impact.direct_impact(0.6, 0.2, np.array([1.0, 2.0]), 0.0, eps=0.1, epsp=0.2)
     f.write_text("V0,V1,V1p\n" + "".join(f"{v0},{a!r},{b!r}\n" for v0, a, b in
                                          zip([1.0, 2.0], r.V1.tolist(), r.V1p.tolist(), strict=True)))
     out = _fit("pendulum", f, "--M", 0.6, "--Mp", 0.2)
@@ -40,7 +40,7 @@ def test_pendulum_with_one_mass_ratio_reports_the_combination(tmp_path):
 
 
 def test_ricochet_positions_and_instants(tmp_path):
-    r = plane.ricochet(2.0, 0.45, 0.0, 0.0305, 2.5, 0.2, 0.75, 9.80665, 9)
+    r = plane.ricochet(2.0, 0.45, 0.0, R=0.0305, k=2.5, f=0.2, nu=0.75, g=9.80665, n=9)
     rng = np.random.default_rng(3)
     x = r.imprints + rng.normal(0, 3e-4, 10)
     t = np.concatenate([[0.0], np.cumsum(r.times)]) + rng.normal(0, 1e-4, 10)

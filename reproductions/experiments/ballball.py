@@ -78,8 +78,8 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     R, k, M = p.R, p.k, p.M
     out: dict[str, float] = {}
     v, w, vp, wp, Mp, f, eps, epsp = _random(seed, 300, False)
-    ex = spheres.two_spheres(M, Mp, R, R, k, k, v, w, vp, wp, f, eps, epsp, method="exact")
-    ode = spheres.two_spheres(M, Mp, R, R, k, k, v, w, vp, wp, f, eps, epsp, method="ode")
+    ex = spheres.two_spheres(M, Mp, R, R, k, k, v, w, vp, wp, f=f, eps=eps, epsp=epsp, method="exact")
+    ode = spheres.two_spheres(M, Mp, R, R, k, k, v, w, vp, wp, f=f, eps=eps, epsp=epsp, method="ode")
     s0 = spheres.contact_slip(v, w, vp, wp, R, R)
     s1 = spheres.contact_slip(ode.v1, ode.w1, ode.v1p, ode.w1p, R, R)
     live = np.hypot(*s1.T) > 1e-3 * np.hypot(*s0.T)  # directions of slips that have not (nearly) stopped
@@ -93,7 +93,7 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     out["eq5"] = float(np.max((np.abs(dv_t - (f * ex.omega1)[:, None] * unit) / approach)[slide]))
     # (8) as printed: the second bracket of the denominator has k where the derivation has k′
     kp = 2.0  # a struck ball of another make, so that k ≠ k′ shows
-    exk = spheres.two_spheres(M, Mp, R, R, k, kp, v, w, vp, wp, f, eps, epsp, method="exact")
+    exk = spheres.two_spheres(M, Mp, R, R, k, kp, v, w, vp, wp, f=f, eps=eps, epsp=epsp, method="exact")
     mu = M / Mp
     omega = (v[:, 0] - vp[:, 0]) / (1 + mu)
     num = 2 * omega * (1 + f**2 * (1 + k) + mu * (1 + f**2 * (1 + kp)))
@@ -103,7 +103,7 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     # (9) as printed: ω1 = 2{…}/{…}, without the factor (χ0 − χ0′)/(1 + M/M′)
     out["eq9_as_printed"] = float(np.max(np.abs(num / omega / den_printed - exk.omega1)[sl] / omega[sl]))
     T0 = M * (v**2).sum(-1) + Mp * (vp**2).sum(-1) + M * R * R / k * (w**2).sum(-1) + Mp * R * R / k * (wp**2).sum(-1)
-    rs = spheres.two_spheres(M, Mp, R, R, k, k, v, w, vp, wp, f, eps, epsp, method="resal")
+    rs = spheres.two_spheres(M, Mp, R, R, k, k, v, w, vp, wp, f=f, eps=eps, epsp=epsp, method="resal")
     err = np.max(np.abs(rs.v1 - ex.v1), axis=-1) / approach[:, 0]
     out["resal_sliding_error"] = float(np.max(err))
     out["resal_sliding_share"] = float(np.mean(ex.regime == Regime.GRIP))
@@ -115,17 +115,19 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     out["b_over_a"] = b / a
     cut = np.radians(np.linspace(5, 85, 17))
     sv, sw, svp, swp = cut_scene(p, cut, p.f)
-    exc = spheres.two_spheres(M, M, R, R, k, k, sv, sw, svp, swp, p.f, p.eps, p.eps, on_cloth=True)
+    exc = spheres.two_spheres(M, M, R, R, k, k, sv, sw, svp, swp, f=p.f, eps=p.eps, epsp=p.eps, on_cloth=True)
     t = exc.T
     s0c = spheres.contact_slip(sv, sw, svp, swp, R, R)
     turn = np.abs(np.arctan2(t[:, 1], t[:, 0]) - np.arctan2(s0c[:, 1], s0c[:, 0]))
     out["cloth_direction_turns"] = float(np.degrees(np.max(np.minimum(turn, 2 * np.pi - turn))))
-    rc = spheres.two_spheres(M, M, R, R, k, k, sv, sw, svp, swp, p.f, p.eps, p.eps, on_cloth=True, method="resal")
+    rc = spheres.two_spheres(M, M, R, R, k, k, sv, sw, svp, swp, f=p.f, eps=p.eps, epsp=p.eps, on_cloth=True,
+                             method="resal")
     out["first_order_error"] = float(max(np.max(np.abs(rc.v1 - exc.v1)), np.max(np.abs(rc.v1p - exc.v1p))) / p.speed)
     # (15) as printed: ω1 = 2(χ0 − χ0′)/(1 + M/M′), against 2ω/(1 + ε) of (14)-(14′)
     out["eq15_as_printed"] = float(abs(2 * p.speed / 2 - 2 * (p.speed / 2) / (1 + p.eps)) / (p.speed / 2))
     vc, wc, vpc, wpc, Mpc, fc, epsc, _ = _random(seed + 1, 300, True)
-    rcl = spheres.two_spheres(M, Mpc, R, R, k, k, vc, wc, vpc, wpc, fc, epsc, epsc, on_cloth=True, method="resal")
+    rcl = spheres.two_spheres(M, Mpc, R, R, k, k, vc, wc, vpc, wpc, f=fc, eps=epsc, epsp=epsc, on_cloth=True,
+                              method="resal")
     T0c = (M * (vc**2).sum(-1) + Mpc * (vpc**2).sum(-1) + M * R * R / k * (wc**2).sum(-1)
            + Mpc * R * R / k * (wpc**2).sum(-1))
     out["resal_cloth_energy"] = float(max(0.0, np.max(_vis_viva(rcl, M, Mpc, R, k) / T0c - 1)))
@@ -180,7 +182,7 @@ def _figures_cut(p: Params) -> tuple[FigureSpec, FigureSpec]:
     lines_a, lines_s = [], []
     for method, style in (("exact", "-"), ("resal", "--")):
         v, w, vp, wp = cut_scene(p, cut, p.f)
-        s = spheres.two_spheres(p.M, p.M, p.R, p.R, p.k, p.k, v, w, vp, wp, p.f, p.eps, p.eps, on_cloth=True,
+        s = spheres.two_spheres(p.M, p.M, p.R, p.R, p.k, p.k, v, w, vp, wp, f=p.f, eps=p.eps, epsp=p.eps, on_cloth=True,
                                 method=method)
         throw = np.degrees(np.arctan2(s.v1p[:, 1], s.v1p[:, 0]))
         cue_dir = np.degrees(np.arctan2(s.v1[:, 1], s.v1[:, 0]))

@@ -54,7 +54,7 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     R, k, f, g = p.R, p.k, p.f, p.g
     worst = dict.fromkeys(QUANTITIES[:-1], 0.0)
     for vx, vy, wx, wy in _scenes(seed):
-        m = cloth.slide(vx, vy, wx, wy, R, k, f, g)
+        m = cloth.slide(vx, vy, wx, wy, R=R, k=k, f=f, g=g)
         t1 = float(m.t_roll)
         state, t_ev = reference.integrate_cloth(vx, vy, wx, wy, R, k, f, g, 2 * t1 + 0.1)
         ts = np.linspace(0.0, t1 * 0.999, 25)
@@ -124,9 +124,9 @@ def run(exp: Experiment) -> Reproduction:
 def _figure(p: Params) -> FigureSpec:
     layers = []
     for j, n in enumerate(p.fan_side_spins):
-        m = cloth.slide(p.fan_speed, 0.0, n, p.fan_top_spin, p.R, p.k, p.f, p.g)
+        m = cloth.slide(p.fan_speed, 0.0, n, p.fan_top_spin, R=p.R, k=p.k, f=p.f, g=p.g)
         t = np.linspace(0.0, 2.0 * float(m.t_roll) + 1e-9, 120)
-        x, y, _, _ = cloth.state_at(t, p.fan_speed, 0.0, n, p.fan_top_spin, p.R, p.k, p.f, p.g, p.f_roll)
+        x, y, _, _ = cloth.state_at(t, p.fan_speed, 0.0, n, p.fan_top_spin, R=p.R, k=p.k, f=p.f, g=p.g, f_roll=p.f_roll)
         layers.append(layer("line", x, y, label=f"n0 = {n:g} rad/s", color=f"C{j % 10}"))
         layers.append(layer("points", [float(m.x_roll)], [float(m.y_roll)], color=f"C{j % 10}", marker="o"))
     return FigureSpec("trajectories", "Euler's parabolas on the cloth, then the tangent (§II n°7)",

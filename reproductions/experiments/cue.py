@@ -92,7 +92,7 @@ def checks(p: Params, seed: int, epsp: float) -> dict[str, float]:
     for ii, b, c, ff in zip(i, bR * R, cR * R, f, strict=True):
         P = 0.5
         for full in (True, False):
-            per = cue.stroke_per_impulse(ii, b, c, R, k, ff, M, "exact" if full else "resal")
+            per = cue.stroke_per_impulse(ii, b, c, R=R, k=k, f=ff, M=M, method="exact" if full else "resal")
             y = reference.integrate_cue_impulse(ii, float(per["a"]), b, c, R, k, ff, M, P, moment_a_term=full)
             if not bool(per["slides"]):
                 continue  # (5) and (7) assume the ball slides on the cloth
@@ -117,7 +117,7 @@ def checks(p: Params, seed: int, epsp: float) -> dict[str, float]:
     i, bR, cR, f = _random_strokes(seed + 1, 4000)
     gains = {}
     for method in ("resal", "exact"):
-        s = cue.cue_stroke(M, p.Mp, p.V0p, i, bR * R, cR * R, R, k, f, p.eps, epsp, method)
+        s = cue.cue_stroke(M, p.Mp, p.V0p, i, bR * R, cR * R, R=R, k=k, f=f, eps=p.eps, epsp=epsp, method=method)
         T0 = p.Mp * p.V0p**2
         T1 = (p.Mp * s.V1p**2 + M * (s.chi1**2 + s.eta1**2) + M * R * R / k * (s.n1**2 + s.p1**2 + s.q1**2))
         gains[method] = (T1 - T0) / T0
@@ -125,12 +125,12 @@ def checks(p: Params, seed: int, epsp: float) -> dict[str, float]:
     worst["energy_share"] = float(np.mean(gains["resal"] > 1e-12))
     worst["energy_exact"] = float(max(0.0, np.max(gains["exact"])))
     # a central horizontal stroke is n°5's direct impact, eq. (8)
-    s0 = cue.cue_stroke(M, p.Mp, p.V0p, 0.0, 0.0, 0.0, R, k, p.f, p.eps, epsp)
-    d0 = impact.direct_impact(p.Mp, M, p.V0p, 0.0, epsp, p.eps)
+    s0 = cue.cue_stroke(M, p.Mp, p.V0p, 0.0, 0.0, 0.0, R=R, k=k, f=p.f, eps=p.eps, epsp=epsp)
+    d0 = impact.direct_impact(p.Mp, M, p.V0p, 0.0, eps=epsp, epsp=p.eps)
     worst["central_stroke"] = max(abs(float(s0.chi1 - d0.V1p)), abs(float(s0.V1p - d0.V1))) / p.V0p
     # direct or retrograde: the sign of χ1 (first of eqs 7) against the printed criterion cos γ ≶ f cos i
     ig, cg = np.meshgrid(np.radians(np.linspace(1, 89, 60)), np.linspace(-0.9, 0.9, 41), indexing="ij")
-    per = cue.stroke_per_impulse(ig, 0.3 * R, cg * R, R, k, p.f, M, "resal")
+    per = cue.stroke_per_impulse(ig, 0.3 * R, cg * R, R=R, k=k, f=p.f, M=M, method="resal")
     direct = per["v"][0] > 0
     printed_direct = np.cos(per["gamma"]) < p.f * np.cos(ig)
     derived_direct = p.f * np.cos(per["gamma"]) * np.tan(ig) < 1
@@ -177,7 +177,7 @@ def run(exp: Experiment) -> Reproduction:
         f"{c['criterion_as_printed']:.0%} of the grid; the first of eqs (7) gives direct motion iff "
         f"f cos γ tan i < 1, which never disagrees (row below): the printed criterion is garbled"))
     computed["criterion_derived"] = Computed(c["criterion_derived"], "f cos γ tan i < 1 against the sign of χ1")
-    central = cue.cue_stroke(p.M, p.Mp, p.V0p, 0.0, 0.0, 0.0, p.R, p.k, p.f, p.eps, epsp)
+    central = cue.cue_stroke(p.M, p.Mp, p.V0p, 0.0, 0.0, 0.0, R=p.R, k=p.k, f=p.f, eps=p.eps, epsp=epsp)
     ratio = float(central.chi1) / p.V0p
     mu = p.Mp / p.M
     modern = modern_rows(exp.modern, {
@@ -190,8 +190,8 @@ def run(exp: Experiment) -> Reproduction:
 
 
 def _after(p: Params, epsp: float, i: np.ndarray, cR: np.ndarray, bR: float) -> tuple:
-    s = cue.cue_stroke(p.M, p.Mp, p.V0p, i, bR * p.R, cR * p.R, p.R, p.k, p.f, p.eps, epsp)
-    m = cloth.slide(s.chi1, s.eta1, s.n1, s.p1, p.R, p.k, p.f, p.g)
+    s = cue.cue_stroke(p.M, p.Mp, p.V0p, i, bR * p.R, cR * p.R, R=p.R, k=p.k, f=p.f, eps=p.eps, epsp=epsp)
+    m = cloth.slide(s.chi1, s.eta1, s.n1, s.p1, R=p.R, k=p.k, f=p.f, g=p.g)
     return s, m
 
 
@@ -202,7 +202,7 @@ def _figure_fan(p: Params, epsp: float) -> FigureSpec:
         for h in p.fan_heights:
             s, m = _after(p, epsp, np.array(i), np.array(h), p.fan_side)
             t = np.linspace(0.0, 1.5 * float(m.t_roll) + 1e-9, 100)
-            x, y, _, _ = cloth.state_at(t, s.chi1, s.eta1, s.n1, s.p1, p.R, p.k, p.f, p.g)
+            x, y, _, _ = cloth.state_at(t, s.chi1, s.eta1, s.n1, s.p1, R=p.R, k=p.k, f=p.f, g=p.g)
             retro = float(m.vx_roll) < 0
             kind = "retrograde" if retro else "direct"
             label = "" if kind in seen else f"{kind} (final motion along Ox)"

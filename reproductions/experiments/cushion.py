@@ -58,8 +58,8 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     """Largest discrepancy of each printed formula of n°11 from the integration of eqs (2)."""
     chi0, zeta0, p0, n0, j = _scenes(seed)
     R, k = p.R, p.k
-    ode = cushion.cushion_impact(chi0, zeta0, p0, n0, R, k, j, p.eps, "ode")
-    exact = cushion.cushion_impact(chi0, zeta0, p0, n0, R, k, j, p.eps, "exact")
+    ode = cushion.cushion_impact(chi0, zeta0, p0, n0, R=R, k=k, j=j, eps=p.eps, method="ode")
+    exact = cushion.cushion_impact(chi0, zeta0, p0, n0, R=R, k=k, j=j, eps=p.eps, method="exact")
     a = -zeta0
     phi0, phi1 = chi0 - p0 * R, ode.chi1 - ode.p1 * R
     slide = ~(ode.regime == Regime.GRIP) & (np.abs(phi1) > 1e-9 * a)
@@ -116,8 +116,8 @@ def run(exp: Experiment) -> Reproduction:
         "the integral (10) with the printed exponent (1 + k)/2 misses j(1 + k)(1 + ν)a; with 2/(1 + k) it is the "
         "exact closed form used here"))
     theta, spin, chi0, zeta0, p0, n0 = grid(p)
-    exact = cushion.cushion_impact(chi0, zeta0, p0, n0, p.R, p.k, p.j, p.eps, "exact")
-    approx = cushion.cushion_impact(chi0, zeta0, p0, n0, p.R, p.k, p.j, p.eps, "resal")
+    exact = cushion.cushion_impact(chi0, zeta0, p0, n0, R=p.R, k=p.k, j=p.j, eps=p.eps, method="exact")
+    approx = cushion.cushion_impact(chi0, zeta0, p0, n0, R=p.R, k=p.k, j=p.j, eps=p.eps, method="resal")
     err = np.abs(rebound_angle(approx) - rebound_angle(exact))
     worst = np.unravel_index(np.argmax(err), err.shape)
     where = f"incidence {math.degrees(theta[worst[1]]):.0f}°, side spin p0R/V = {spin[worst[0]]:+.2f}"
@@ -155,10 +155,10 @@ def _figure_rebound(p: Params, theta: np.ndarray, e_modern: np.ndarray) -> Figur
     zeros = np.zeros_like(theta)
     chi0, zeta0 = p.speed * np.sin(theta), -p.speed * np.cos(theta)
     n0 = zeta0 / p.R
-    resal = cushion.cushion_impact(chi0, zeta0, zeros, n0, p.R, p.k, p.j, p.eps, "exact")
+    resal = cushion.cushion_impact(chi0, zeta0, zeros, n0, R=p.R, k=p.k, j=p.j, eps=p.eps, method="exact")
     eps_modern = (1 - e_modern) / (1 + e_modern)
-    modern = cushion.cushion_impact(chi0, zeta0, zeros, n0, p.R, p.k, p.j, eps_modern, "exact")
-    frictionless = cushion.cushion_impact(chi0, zeta0, zeros, n0, p.R, p.k, 0.0, p.eps, "exact")
+    modern = cushion.cushion_impact(chi0, zeta0, zeros, n0, R=p.R, k=p.k, j=p.j, eps=eps_modern, method="exact")
+    frictionless = cushion.cushion_impact(chi0, zeta0, zeros, n0, R=p.R, k=p.k, j=0.0, eps=p.eps, method="exact")
     th = np.degrees(theta)
     return FigureSpec("rebound", f"Rebound angle against incidence, no side spin, V = {p.speed:g} m/s", "incidence "
                       "(degrees from the normal)", "rebound (degrees from the normal)", (

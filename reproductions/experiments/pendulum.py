@@ -141,7 +141,7 @@ def run(exp: Experiment) -> Reproduction:
     comb = D_p / Mp  # (1 + ε) + (M/M′)(1 + ε′), the paper's "1 + ε + 3(1 + ε′)"
     epsp_given_eps = (D_p - Mp * (1 + p.eps_paper)) / M - 1.0
     eps_given_epsp = (D_p - M * (1 + p.epsp_premise)) / Mp - 1.0
-    swapped = impact.direct_impact(M, Mp, 1.0, 0.0, epsp_given_eps, p.eps_paper)
+    swapped = impact.direct_impact(M, Mp, 1.0, 0.0, eps=epsp_given_eps, epsp=p.eps_paper)
     momentum = (M * p.ratio + Mp * p.ratio_p - M) / M
 
     trials = _trials(p)

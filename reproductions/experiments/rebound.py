@@ -123,7 +123,7 @@ def eq9_limit_check(seed: int, n: int = 64, mass_ratio: float = 1e12) -> float:
     V0 = rng.uniform(0.5, 7.0, n)
     eps, epsp = rng.uniform(0.0, 1.0, (2, n))
     printed = -(1 - eps) / (1 + eps) * V0  # eq. (9) as printed, transcribed only to be compared
-    limit = impact.direct_impact(1.0, mass_ratio, V0, 0.0, eps, epsp).V1
+    limit = impact.direct_impact(1.0, mass_ratio, V0, 0.0, eps=eps, epsp=epsp).V1
     return float(np.max(np.abs(printed - limit) / V0))
 
 
@@ -217,11 +217,11 @@ def _figure_series(data: tuple[np.ndarray, np.ndarray, str], fit: FitResult, r: 
     est = fit.estimates[0]
     x = np.linspace(0.0, float(V0.max()) * 1.05, 50)
     layers = [layer("points", V0, -V1, label=label, color="C0"),
-              layer("line", x, -impact.infinite_mass_impact(x, est.value), label=f"fit: ε = {est.value:.4f}",
+              layer("line", x, -impact.infinite_mass_impact(x, eps=est.value), label=f"fit: ε = {est.value:.4f}",
                     color="C3")]
     if est.ci95[0] is not None:
-        layers.append(layer("band", x, -impact.infinite_mass_impact(x, est.ci95[1]),
-                            -impact.infinite_mass_impact(x, est.ci95[0]), label="95 % interval of ε", color="C3"))
+        layers.append(layer("band", x, -impact.infinite_mass_impact(x, eps=est.ci95[1]),
+                            -impact.infinite_mass_impact(x, eps=est.ci95[0]), label="95 % interval of ε", color="C3"))
     layers.append(layer("line", x, r * x, label=f"paper's ratio {r:.4g}", color="C7", style="--"))
     return FigureSpec("series", "Rebound speed against impact speed", "impact speed V0 (m/s)",
                       "rebound speed −V1 (m/s)", tuple(layers), caption=label)

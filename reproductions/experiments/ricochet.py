@@ -121,7 +121,7 @@ def parse(node: Node, base: Path) -> Params:
 # ---- data ---------------------------------------------------------------------------------------------------
 def simulate_series(p: Params, s: Synthetic, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
     """Imprint positions and impact instants (both from the first imprint) with seeded measurement noise."""
-    r = plane.ricochet(s.a0, s.alpha0, s.p0, p.R, p.k, s.f, s.nu, p.g, s.imprints - 1)
+    r = plane.ricochet(s.a0, s.alpha0, s.p0, R=p.R, k=p.k, f=s.f, nu=s.nu, g=p.g, n=s.imprints - 1)
     x = r.imprints[: s.imprints]
     t = np.concatenate([[0.0], np.cumsum(r.times)])[: s.imprints]
     x = x + s.noise_x * rng.standard_normal(x.size)
@@ -151,8 +151,8 @@ def formula_checks(p: Params, seed: int) -> dict[str, float]:
     chi0, zeta0, pR, f, nu = _scenes(seed)
     R, k = p.R, p.k
     p0 = pR / R
-    ref = reference.integrate_plane_impact(chi0, zeta0, p0, R, k, f, nu)
-    slide = plane.slides_throughout(chi0, zeta0, p0, R, k, f, nu)
+    ref = reference.integrate_plane_impact(chi0, zeta0, p0, R=R, k=k, f=f, nu=nu)
+    slide = plane.slides_throughout(chi0, zeta0, p0, R=R, k=k, f=f, nu=nu)
     s = np.sign(chi0 - pR)
     # eqs (6) as printed, in the frame where x is along the slip (so χ, p flip with s)
     chi1_6 = s * (s * chi0 + f * (1 + nu) * zeta0)
@@ -177,7 +177,7 @@ def formula_checks(p: Params, seed: int) -> dict[str, float]:
     fwd_all = (chi0 - pR > 0)
     # (9) as the small-angle limit of the exact ratio (spinless ball)
     tiny = 1e-7
-    lim9 = np.max(np.abs(plane.range_ratio_exact(tiny, f, nu, k) - nu) / nu)
+    lim9 = np.max(np.abs(plane.range_ratio_exact(tiny, f=f, nu=nu, k=k) - nu) / nu)
     # "à plus forte raison": once f tan α is small, the next angles are smaller still (tan α1 < tan α0)
     a_grid, f_grid, nu_grid = np.meshgrid(np.linspace(1e-3, math.atan(0.05 / 0.5), 40), np.linspace(0.01, 0.5, 40),
                                           np.linspace(0.3, 0.9, 13), indexing="ij")
@@ -295,7 +295,7 @@ def _compare_estimators(p: Params, s: Surface, seed: int) -> list[tuple]:
 
 def _figure_sequence(p: Params, s: Surface, x: np.ndarray, fit: FitResult, heights_known: bool) -> FigureSpec:
     nu, f, a0, alpha0 = fit.point
-    r = plane.ricochet(a0, alpha0, p.p0_fit, p.R, p.k, f, nu, p.g, x.size - 1)
+    r = plane.ricochet(a0, alpha0, p.p0_fit, R=p.R, k=p.k, f=f, nu=nu, g=p.g, n=x.size - 1)
     xs, zs = [], []
     for j in range(x.size - 1):  # the centre's parabola between imprints j and j+1
         tt = np.linspace(0.0, r.times[j], 30)
@@ -315,11 +315,11 @@ def _figures_error_maps(p: Params) -> list[FigureSpec]:
     alpha = np.linspace(0.005, p.map_alpha_max, 120)
     f = np.linspace(0.0, p.map_f_max, 100)
     A, F = np.meshgrid(alpha, f, indexing="xy")  # rows: f, columns: α0
-    exact = plane.range_ratio_exact(A, F, p.map_nu, p.k)
+    exact = plane.range_ratio_exact(A, f=F, nu=p.map_nu, k=p.k)
     boundary_alpha = np.degrees(np.arctan(1.0 / np.maximum(f * (1 + p.k) * (1 + p.map_nu), 1e-12)))
     keep = boundary_alpha <= np.degrees(p.map_alpha_max)
     out = []
-    for name, approx, title in (("error-eq8", plane.range_ratio_resal(A, F, p.map_nu), "eq. (8)"),
+    for name, approx, title in (("error-eq8", plane.range_ratio_resal(A, f=F, nu=p.map_nu), "eq. (8)"),
                                 ("error-eq9", plane.range_ratio_small_angle(np.full_like(A, p.map_nu)), "eq. (9)")):
         err = np.clip(np.abs(approx - exact) / np.abs(exact), 1e-6, None)
         out.append(FigureSpec(

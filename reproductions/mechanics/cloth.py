@@ -47,7 +47,7 @@ def _slip(vx: np.ndarray, vy: np.ndarray, wx: np.ndarray, wy: np.ndarray, R: np.
     return ux / safe, uy / safe, u
 
 
-def slide(vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: ArrayLike, R: ArrayLike, k: ArrayLike, f: ArrayLike,
+def slide(vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: ArrayLike, *, R: ArrayLike, k: ArrayLike, f: ArrayLike,
           g: ArrayLike) -> ClothMotion:
     """Time, place and velocity at which rolling starts (§II n°7: t1 = v0/(fg(1 + k)) and the point of the
     parabola reached then). A ball already rolling (v0 = 0) skips the sliding phase: t1 = 0."""
@@ -62,7 +62,7 @@ def slide(vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: ArrayLike, R: ArrayLi
                        "closed form, §II eqs (3)-(4)")
 
 
-def state_at(t: ArrayLike, vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: ArrayLike, R: ArrayLike,
+def state_at(t: ArrayLike, vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: ArrayLike, *, R: ArrayLike,
              k: ArrayLike, f: ArrayLike, g: ArrayLike, f_roll: ArrayLike = 0.0
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Position (x, y) and velocity (vx, vy) of the centre at times t (from the start, at the origin).
@@ -72,7 +72,7 @@ def state_at(t: ArrayLike, vx: ArrayLike, vy: ArrayLike, wx: ArrayLike, wy: Arra
     tangent, decelerated by f_roll·g until the ball stops (an addition the paper leaves aside).
     """
     t = np.asarray(t, dtype=float)
-    m = slide(vx, vy, wx, wy, R, k, f, g)
+    m = slide(vx, vy, wx, wy, R=R, k=k, f=f, g=g)
     params = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (vx, vy, wx, wy, R, k, f, g, f_roll)))
     extra = (None,) * t.ndim
     vx, vy, wx, wy, R, k, f, g, fr = (a[(..., *extra)] for a in params)

@@ -77,7 +77,7 @@ def miscue_angle(f_tip: ArrayLike) -> np.ndarray:
     return np.arctan(np.asarray(f_tip, dtype=float))
 
 
-def stroke_per_impulse(i: ArrayLike, b: ArrayLike, c: ArrayLike, R: ArrayLike, k: ArrayLike, f: ArrayLike,
+def stroke_per_impulse(i: ArrayLike, b: ArrayLike, c: ArrayLike, *, R: ArrayLike, k: ArrayLike, f: ArrayLike,
                        M: ArrayLike, method: str = "exact") -> dict[str, np.ndarray]:
     """Velocity, rotation and slip of the ball per unit cue impulse P (eqs 3, 5, 7), arrays over the batch."""
     if method not in METHODS:
@@ -103,12 +103,12 @@ def stroke_per_impulse(i: ArrayLike, b: ArrayLike, c: ArrayLike, R: ArrayLike, k
             "cos_phi": -(a * ci - c * si) / R, "d_K_d": (contact * d).sum(axis=0)}
 
 
-def cue_stroke(M: ArrayLike, Mp: ArrayLike, V0p: ArrayLike, i: ArrayLike, b: ArrayLike, c: ArrayLike,
+def cue_stroke(M: ArrayLike, Mp: ArrayLike, V0p: ArrayLike, i: ArrayLike, b: ArrayLike, c: ArrayLike, *,
                R: ArrayLike, k: ArrayLike, f: ArrayLike, eps: ArrayLike, epsp: ArrayLike,
                method: str = "exact") -> CueStroke:
     """The stroke of §VII n°14 (module docstring): ``exact`` or ``resal`` (as printed)."""
     path = method
-    per = stroke_per_impulse(i, b, c, R, k, f, M, path)
+    per = stroke_per_impulse(i, b, c, R=R, k=k, f=f, M=M, method=path)
     M, Mp, V0p, R, k, eps, epsp = np.broadcast_arrays(*(np.asarray(x, dtype=float)
                                                          for x in (M, Mp, V0p, R, k, eps, epsp)))
     v, w = per["v"], per["w"]

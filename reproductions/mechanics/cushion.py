@@ -131,7 +131,7 @@ def _ode(chi0: np.ndarray, pR0: np.ndarray, nR0: np.ndarray, k: np.ndarray, j: n
     return out[0], out[1], out[2]
 
 
-def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLike, R: ArrayLike,
+def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLike, *, R: ArrayLike,
                    k: ArrayLike, j: ArrayLike, eps: ArrayLike, method: str = "exact") -> CushionImpact:
     """The cushion impact of §IV by the chosen path (module docstring): ``exact`` (₂F₁ and bisection, every
     scene), ``elementary`` (only where ``elementary_applies``), ``resal``, ``resal-corrected``, ``ode``.

@@ -89,8 +89,7 @@ def denominator(M: ArrayLike, Mp: ArrayLike, eps: ArrayLike, epsp: ArrayLike) ->
 
 
 def direct_impact(
-    M: ArrayLike, Mp: ArrayLike, V0: ArrayLike, V0p: ArrayLike = 0.0, eps: ArrayLike = 0.0,
-    epsp: ArrayLike = 0.0,
+    M: ArrayLike, Mp: ArrayLike, V0: ArrayLike, V0p: ArrayLike = 0.0, *, eps: ArrayLike, epsp: ArrayLike,
 ) -> DirectImpact:
     """Direct impact of M on M′, eq. (7) §I n°5 (eq. (8) when V0′ = 0), derived as in the module docstring."""
     M, Mp, V0, V0p, eps, epsp = (np.asarray(a, dtype=float) for a in (M, Mp, V0, V0p, eps, epsp))
@@ -112,7 +111,7 @@ def wall_impact(V0: ArrayLike, *, eps: ArrayLike) -> WallImpact:
                       regime=codes(V0.shape, Regime.FRICTIONLESS), label="closed form, §I eq. (9)")
 
 
-def infinite_mass_impact(V0: ArrayLike, eps: ArrayLike) -> np.ndarray:
+def infinite_mass_impact(V0: ArrayLike, *, eps: ArrayLike) -> np.ndarray:
     """Velocity after striking an immovable mass, eq. (9) §I n°5: V1 = −(1 − ε)/(1 + ε) V0 (limit M′ → ∞ of (8))."""
     return -velocity_ratio_from_eps(eps) * np.asarray(V0, dtype=float)
 

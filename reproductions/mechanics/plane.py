@@ -70,14 +70,14 @@ def _arrays(*args: ArrayLike) -> list[np.ndarray]:
     return [np.asarray(a, dtype=float) for a in args]
 
 
-def slides_throughout(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, R: ArrayLike, k: ArrayLike, f: ArrayLike,
+def slides_throughout(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, *, R: ArrayLike, k: ArrayLike, f: ArrayLike,
                       nu: ArrayLike) -> np.ndarray:
     """True where the slip lasts the whole impact, |χ0 − p0R| ≥ f(1 + k)(1 + ν)|ζ0| (module docstring)."""
     chi0, zeta0, p0, R, k, f, nu = _arrays(chi0, zeta0, p0, R, k, f, nu)
     return np.abs(chi0 - p0 * R) >= f * (1 + k) * (1 + nu) * np.abs(zeta0)
 
 
-def plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, R: ArrayLike, k: ArrayLike, f: ArrayLike,
+def plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, *, R: ArrayLike, k: ArrayLike, f: ArrayLike,
                  nu: ArrayLike, method: str = "exact") -> PlaneImpact:
     """Impact of a sphere on a fixed plane (§III n°8).
 
@@ -106,7 +106,7 @@ def plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, R: ArrayLike,
                        regime=plane_regime(np.broadcast_to(v0, shape), sliding), label=label)
 
 
-def range_ratio_resal(alpha0: ArrayLike, f: ArrayLike, nu: ArrayLike) -> np.ndarray:
+def range_ratio_resal(alpha0: ArrayLike, *, f: ArrayLike, nu: ArrayLike) -> np.ndarray:
     """Eq. (8), §III n°9: P1/P0 = ν[1 − f(1 + ν) tan α0]; exact while the contact slides."""
     alpha0, f, nu = _arrays(alpha0, f, nu)
     return nu * (1 - f * (1 + nu) * np.tan(alpha0))
@@ -117,7 +117,7 @@ def range_ratio_small_angle(nu: ArrayLike) -> np.ndarray:
     return np.asarray(nu, dtype=float)
 
 
-def range_ratio_exact(alpha0: ArrayLike, f: ArrayLike, nu: ArrayLike, k: ArrayLike = 2.5,
+def range_ratio_exact(alpha0: ArrayLike, *, f: ArrayLike, nu: ArrayLike, k: ArrayLike,
                       spin: ArrayLike = 0.0) -> np.ndarray:
     """P1/P0 = ν χ1/χ0 for a ball arriving at angle α0 with spin p0R = spin·a0, in both regimes.
 
@@ -126,7 +126,7 @@ def range_ratio_exact(alpha0: ArrayLike, f: ArrayLike, nu: ArrayLike, k: ArrayLi
     """
     alpha0, f, nu, k, spin = _arrays(alpha0, f, nu, k, spin)
     chi0, zeta0 = np.cos(alpha0), -np.sin(alpha0)
-    out = plane_impact(chi0, zeta0, spin, 1.0, k, f, nu, method="exact")
+    out = plane_impact(chi0, zeta0, spin, R=1.0, k=k, f=f, nu=nu, method="exact")
     return nu * out.chi1 / chi0
 
 
@@ -147,7 +147,7 @@ class Ricochet:
     label: str
 
 
-def ricochet(a0: ArrayLike, alpha0: ArrayLike, p0: ArrayLike, R: ArrayLike, k: ArrayLike, f: ArrayLike,
+def ricochet(a0: ArrayLike, alpha0: ArrayLike, p0: ArrayLike, *, R: ArrayLike, k: ArrayLike, f: ArrayLike,
              nu: ArrayLike, g: ArrayLike, n: int, method: str = "exact",
              impact: Callable[..., PlaneImpact] | None = None) -> Ricochet:
     """Ricochets on a horizontal plane (§III n°9): impacts by ``plane_impact``, parabolic flights between.
@@ -161,7 +161,7 @@ def ricochet(a0: ArrayLike, alpha0: ArrayLike, p0: ArrayLike, R: ArrayLike, k: A
     cols: dict[str, list[np.ndarray]] = {"chi": [], "zeta": [], "p": [], "regime": [], "P": [], "T": []}
     label = ""
     for _ in range(n):
-        out = (impact or plane_impact)(chi, zeta, p, R, k, f, nu, method=method)
+        out = (impact or plane_impact)(chi, zeta, p, R=R, k=k, f=f, nu=nu, method=method)
         label = out.label
         chi, zeta, p = out.chi1, out.zeta1, out.p1
         cols["chi"].append(chi)

@@ -123,8 +123,8 @@ def _plane_one(chi0: float, zeta0: float, p0: float, R: float, k: float, f: floa
     return float(y[0]), float(y[1]), float(y[2] / R), stopped
 
 
-def integrate_plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, R: ArrayLike, k: ArrayLike,
-                           f: ArrayLike, nu: ArrayLike, *, rtol: float = 1e-11) -> ReferencePlane:
+def integrate_plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, *, R: ArrayLike, k: ArrayLike,
+                           f: ArrayLike, nu: ArrayLike, rtol: float = 1e-11) -> ReferencePlane:
     """Integrate §III's impulse equations (4) scene by scene, stopping the slip when v_x reaches zero."""
     arrays = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (chi0, zeta0, p0, R, k, f, nu)))
     flat = [a.ravel() for a in arrays]

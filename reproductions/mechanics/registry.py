@@ -45,7 +45,7 @@ def _f(doc: str = "sliding friction coefficient") -> Param:
 
 # ---- §I: direct impact and impact on an immovable mass -------------------------------------------------------
 def _direct_exact(s: Scene) -> impact.DirectImpact:
-    return impact.direct_impact(s["M"], s["Mp"], s["V0"], s["V0p"], s["eps"], s["epsp"])
+    return impact.direct_impact(s["M"], s["Mp"], s["V0"], s["V0p"], eps=s["eps"], epsp=s["epsp"])
 
 
 def _direct_ode(s: Scene) -> impact.DirectImpact:
@@ -84,10 +84,14 @@ def _plane_args(s: Scene) -> tuple[np.ndarray, ...]:
     return s["chi0"], s["zeta0"], s["p0"], s["R"], s["k"], s["f"], s["nu"]
 
 
-def _plane_ode(chi0: Any, zeta0: Any, p0: Any, R: Any, k: Any, f: Any, nu: Any, method: str = "ode"
+def _plane(s: Scene, method: str) -> plane.PlaneImpact:
+    return plane.plane_impact(s["chi0"], s["zeta0"], s["p0"], R=s["R"], k=s["k"], f=s["f"], nu=s["nu"], method=method)
+
+
+def _plane_ode(chi0: Any, zeta0: Any, p0: Any, *, R: Any, k: Any, f: Any, nu: Any, method: str = "ode"
                ) -> plane.PlaneImpact:
     """§III's impulse equations (4) integrated with a slip-stop event (``reference.integrate_plane_impact``)."""
-    r = reference.integrate_plane_impact(chi0, zeta0, p0, R, k, f, nu)
+    r = reference.integrate_plane_impact(chi0, zeta0, p0, R=R, k=k, f=f, nu=nu)
     v0 = np.broadcast_to(np.asarray(chi0, dtype=float) - np.asarray(p0, dtype=float) * R, np.shape(r.chi1))
     regime = np.where(v0 == 0, Regime.NO_SLIP, np.where(np.isnan(r.slip_stopped_at), Regime.SLIDE, Regime.GRIP))
     return plane.PlaneImpact(r.chi1, r.zeta1, r.p1, "ode", codes(np.shape(r.chi1), PathCode.ODE),
@@ -97,7 +101,7 @@ def _plane_ode(chi0: Any, zeta0: Any, p0: Any, R: Any, k: Any, f: Any, nu: Any, 
 def _plane_resal_exact(s: Scene) -> np.ndarray:
     """Eqs (6) assume the slip lasts the whole impact: exact where it does, or where there is no slip."""
     chi0, zeta0, p0, R, k, f, nu = _plane_args(s)
-    return plane.slides_throughout(chi0, zeta0, p0, R, k, f, nu) | (chi0 - p0 * R == 0)
+    return plane.slides_throughout(chi0, zeta0, p0, R=R, k=k, f=f, nu=nu) | (chi0 - p0 * R == 0)
 
 
 def _plane_sample(rng: np.random.Generator, n: int) -> Scene:
@@ -116,7 +120,8 @@ def _plane_vis_viva(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray]:
 
 def _ricochet_run(s: Scene, method: str) -> plane.Ricochet:
     n = int(s["n"])
-    return plane.ricochet(s["a0"], s["alpha0"], s["p0"], s["R"], s["k"], s["f"], s["nu"], s["g"], n, method=method)
+    return plane.ricochet(s["a0"], s["alpha0"], s["p0"], R=s["R"], k=s["k"], f=s["f"], nu=s["nu"], g=s["g"], n=n,
+                          method=method)
 
 
 def _ricochet_ode(s: Scene) -> plane.Ricochet:
@@ -127,7 +132,7 @@ def _ricochet_ode(s: Scene) -> plane.Ricochet:
     chi, zeta = a0 * np.cos(al), -a0 * np.sin(al)
     cols: dict[str, list[np.ndarray]] = {"chi": [], "zeta": [], "p": [], "regime": [], "P": [], "T": []}
     for _ in range(n):
-        out = _plane_ode(chi, zeta, p, R, k, f, nu)
+        out = _plane_ode(chi, zeta, p, R=R, k=k, f=f, nu=nu)
         chi, zeta, p = out.chi1, out.zeta1, out.p1
         P, T = reference.integrate_flight(chi, zeta, g)
         for key, v in (("chi", chi), ("zeta", zeta), ("p", p), ("regime", out.regime), ("P", P), ("T", T)):
@@ -159,7 +164,7 @@ def _ricochet_vis_viva(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray]:
 
 # ---- §II: the cloth -------------------------------------------------------------------------------------------
 def _cloth_exact(s: Scene) -> cloth.ClothMotion:
-    return cloth.slide(s["vx"], s["vy"], s["wx"], s["wy"], s["R"], s["k"], s["f"], s["g"])
+    return cloth.slide(s["vx"], s["vy"], s["wx"], s["wy"], R=s["R"], k=s["k"], f=s["f"], g=s["g"])
 
 
 def _cloth_ode(s: Scene) -> cloth.ClothMotion:
@@ -204,8 +209,8 @@ def _cloth_vis_viva(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray]:
 # ---- §IV: the cushion ----------------------------------------------------------------------------------------
 def _cushion(method: str):
     def run(s: Scene) -> cushion.CushionImpact:
-        return cushion.cushion_impact(s["chi0"], s["zeta0"], s["p0"], s["n0"], s["R"], s["k"], s["j"], s["eps"],
-                                      method)
+        return cushion.cushion_impact(s["chi0"], s["zeta0"], s["p0"], s["n0"], R=s["R"], k=s["k"], j=s["j"],
+                                      eps=s["eps"], method=method)
     return run
 
 
@@ -244,7 +249,7 @@ def _flip(s: Scene, *names: str) -> dict[str, np.ndarray]:
 def _spheres(method: str, on_cloth: bool):
     def run(s: Scene) -> spheres.SpheresImpact:
         return spheres.two_spheres(s["M"], s["Mp"], s["R"], s["Rp"], s["k"], s["kp"], s["v"], s["w"], s["vp"],
-                                   s["wp"], s["f"], s["eps"], s["epsp"], on_cloth=on_cloth, method=method)
+                                   s["wp"], f=s["f"], eps=s["eps"], epsp=s["epsp"], on_cloth=on_cloth, method=method)
     return run
 
 
@@ -352,8 +357,8 @@ def _spheres_model(on_cloth: bool) -> Model:
 # ---- §VII: the cue -------------------------------------------------------------------------------------------
 def _cue(method: str):
     def run(s: Scene) -> cue.CueStroke:
-        return cue.cue_stroke(s["M"], s["Mp"], s["V0p"], s["i"], s["b"], s["c"], s["R"], s["k"], s["f"], s["eps"],
-                              s["epsp"], method)
+        return cue.cue_stroke(s["M"], s["Mp"], s["V0p"], s["i"], s["b"], s["c"], R=s["R"], k=s["k"], f=s["f"],
+                              eps=s["eps"], epsp=s["epsp"], method=method)
     return run
 
 
@@ -449,11 +454,13 @@ def _build() -> dict[str, Model]:
             Param("p0", "rad/s", "rotation before; the contact slips at v_x = χ − pR", 0.0),
             _R, _K, _f(), Param("nu", "1", "yield ν of the normal velocity, ζ1 = −νζ0", None, **_NU),
         ), (), (
-            Path(PathCode.EXACT, Kind.CLOSED_FORM, lambda s: plane.plane_impact(*_plane_args(s), method="exact"),
+            Path(PathCode.EXACT, Kind.CLOSED_FORM, lambda s: _plane(s, "exact"),
                  always, 1e-13, 1, "closed form in both regimes"),
-            Path(PathCode.RESAL, Kind.AS_PRINTED, lambda s: plane.plane_impact(*_plane_args(s), method="resal"),
+            Path(PathCode.RESAL, Kind.AS_PRINTED, lambda s: _plane(s, "resal"),
                  _plane_resal_exact, 1e-13, 1, "eqs (6) as printed: sliding assumed throughout"),
-            Path(PathCode.ODE, Kind.ODE, lambda s: _plane_ode(*_plane_args(s)), always, 1e-9, 1000,
+            Path(PathCode.ODE, Kind.ODE, lambda s: _plane_ode(s["chi0"], s["zeta0"], s["p0"], R=s["R"], k=s["k"],
+                                                              f=s["f"],
+                                                             nu=s["nu"]), always, 1e-9, 1000,
                  "impulse equations (4) with a slip-stop event (DOP853)"),
         ), ("chi1", "zeta1", "p1*R"), lambda s: np.asarray(s["zeta0"]) < 0,
             "the sphere must approach the plane (ζ0 < 0)", sample=_plane_sample,

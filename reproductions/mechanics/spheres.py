@@ -81,7 +81,7 @@ def _apply(M: np.ndarray, Mp: np.ndarray, R: np.ndarray, Rp: np.ndarray, k: np.n
 
 
 def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: ArrayLike, kp: ArrayLike,
-                v: ArrayLike, w: ArrayLike, vp: ArrayLike, wp: ArrayLike, f: ArrayLike, eps: ArrayLike,
+                v: ArrayLike, w: ArrayLike, vp: ArrayLike, wp: ArrayLike, *, f: ArrayLike, eps: ArrayLike,
                 epsp: ArrayLike, on_cloth: bool = False, method: str = "exact") -> SpheresImpact:
     """The impact of §V (free balls) or §VI (``on_cloth``) by the chosen path (module docstring); v, w, vp,
     wp have the vector on the last axis; the other inputs broadcast over the batch. M must approach M′."""
