@@ -106,3 +106,37 @@ def test_bad_cushion_and_spheres_configs(tmp_path, config, old, new, message):
     err = " ".join(res.stderr.split())
     assert res.exit_code == 2 and f"{cfg}:{line}:" in err and message in err
     assert not (tmp_path / "res").exists() or not any((tmp_path / "res").iterdir())
+
+
+def test_cloth_normal_impulse_is_iterated_to_its_fixed_point():
+    """A heavy ball, f = 1, ε = 1: six rounds of the §VI fixed point (the old fixed count) were 17 % off."""
+    from reproductions.mechanics import paths, registry
+
+    m = registry.MODELS["spheres-cloth"]
+    V, roll, R = 0.014877428020986336, 1.1183714534417355, 0.013496694839337284
+    s = m.scene({"v": [V, 0, 0], "w": [0, V / R * roll, 0], "M": 8.727891376422614, "Mp": 0.27218313455075216,
+                 "R": R, "Rp": R, "f": 1.0, "eps": 1.0, "epsp": 1.0})
+    r = paths.solve(m, s, "exact")
+    assert bool(r.converged)
+    # the fixed point itself: one more round of law (6) with λ = |T|/ξ from the exact slip decay moves nothing
+    lam = float(np.hypot(*r.T) / (s["M"] * r.omega1))
+    mu, k = float(s["M"] / s["Mp"]), 2.5
+    S = (1 + lam**2 * (1 + k)) * 2 + mu * (1 + lam**2 * (1 + k)) * 2
+    sl = spheres.contact_slip(s["v"], s["w"], s["vp"], s["wp"], s["R"], s["Rp"])
+    s0n = float(np.hypot(*sl))
+    cy = (1 + k) / s["M"] + (1 + k) / s["Mp"]
+    cz = k / s["M"] + k / s["Mp"]
+    from reproductions.mechanics.slip import slip_decay
+
+    omega = V / (1 + mu)
+    a_, b_ = slip_decay(abs(sl[0]), abs(sl[1]), s["M"] * cy, s["M"] * cz, 1.0 * omega)
+    w_c = float(np.hypot(a_, b_))
+    again = (2 * V + 2 * lam * s0n - 2 * lam * w_c) / S
+    assert again == pytest.approx(float(r.omega1), rel=1e-11)
+    six = spheres.FIXED_POINT_MAXITER
+    try:
+        spheres.FIXED_POINT_MAXITER = 5  # the old count (6 evaluations): far from it, and flagged
+        r6 = paths.solve(m, s, "exact")
+    finally:
+        spheres.FIXED_POINT_MAXITER = six
+    assert not bool(r6.converged) and abs(float(r6.v1p[0]) / float(r.v1p[0]) - 1) > 0.05

@@ -29,6 +29,7 @@ law is applied with λ = |T|/ξ from the exact tangential solution, iterated to 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -49,6 +50,7 @@ class SpheresImpact:
     w1p: np.ndarray
     omega1: np.ndarray  # χ0 − χ1
     T: np.ndarray  # tangential impulse on M′ (y, z components)
+    converged: np.ndarray  # the §VI normal-impulse fixed point converged (True where there is none)
     method: str
     path: np.ndarray
     regime: np.ndarray  # SLIDE: slips throughout; GRIP: the slip stops; NO_SLIP: none at first
@@ -114,28 +116,23 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         unit = s0 / np.where(s0n > 0, s0n, 1.0)[..., None]
         T = (f * xi)[..., None] * unit
         stops = np.zeros(batch, dtype=bool)
+        converged = np.ones(batch, dtype=bool)
         label = ("Résal's §VI eqs (11)-(15), first order in f" if on_cloth
                  else "Résal's §V eqs (5), (8), sliding assumed throughout")
     else:
-        w_c = np.maximum(s0n - f * cy * M * omega, 0.0) if not on_cloth else None
-        lam = f.copy()
-        for _ in range(1 if not on_cloth else 6):
-            if on_cloth:  # slip at the greatest compression, from the exact tangential solution
-                a_, b_ = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega)
-                w_c = np.hypot(a_, b_)
-            omega1 = (2 * approach + 2 * lam * s0n - 2 * lam * w_c) / S_eps(lam)
-            if not on_cloth:
-                stick = f * cy * M * omega1 > s0n  # the slip stops during the restitution
-                # quadratic α ω1² − 2Δ ω1 + β = 0 with λ = |s0|/(c M ω1)
-                alpha = (1 + eps) + mu * (1 + epsp)
-                beta = (s0n / (cy * M)) ** 2 * ((1 + k) * (1 + eps) + mu * (1 + kp) * (1 + epsp)) \
-                    - 2 * s0n * (s0n - w_c) / (cy * M)
-                disc = np.maximum(approach**2 - alpha * beta, 0.0)
-                omega1 = np.where(stick, (approach + np.sqrt(disc)) / alpha, omega1)
-                break
-            a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
-            Tn = np.hypot((np.abs(s0[..., 0]) - a1) / cy, (np.abs(s0[..., 1]) - b1) / cz)
-            lam = Tn / (M * omega1)
+        converged = np.ones(batch, dtype=bool)
+        if not on_cloth:
+            w_c = np.maximum(s0n - f * cy * M * omega, 0.0)
+            omega1 = (2 * approach + 2 * f * s0n - 2 * f * w_c) / S_eps(f)
+            stick = f * cy * M * omega1 > s0n  # the slip stops during the restitution
+            # quadratic α ω1² − 2Δ ω1 + β = 0 with λ = |s0|/(c M ω1)
+            alpha = (1 + eps) + mu * (1 + epsp)
+            beta = (s0n / (cy * M)) ** 2 * ((1 + k) * (1 + eps) + mu * (1 + kp) * (1 + epsp)) \
+                - 2 * s0n * (s0n - w_c) / (cy * M)
+            disc = np.maximum(approach**2 - alpha * beta, 0.0)
+            omega1 = np.where(stick, (approach + np.sqrt(disc)) / alpha, omega1)
+        else:
+            omega1, converged = _cloth_normal_impulse(s0, s0n, approach, omega, M, cy, cz, f, S_eps)
         xi = M * omega1
         if method == "ode":
             s1 = _ode_slip(s0, M * cy, M * cz, f * omega1)
@@ -149,7 +146,40 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         stops = (np.hypot(s1[..., 0], s1[..., 1]) <= 1e-12 * np.maximum(s0n, 1e-300)) & (s0n > 0)
     v1, w1, v1p, w1p = _apply(M, Mp, R, Rp, k, kp, v, w, vp, wp, xi, T, on_cloth)
     regime = np.where(s0n == 0, Regime.NO_SLIP, np.where(stops, Regime.GRIP, Regime.SLIDE)).astype(np.int8)
-    return SpheresImpact(v1, w1, v1p, w1p, omega1, T, method, codes(batch, PathCode[method.upper()]), regime, label)
+    return SpheresImpact(v1, w1, v1p, w1p, omega1, T, np.broadcast_to(converged, batch).copy(), method,
+                         codes(batch, PathCode[method.upper()]), regime, label)
+
+
+FIXED_POINT_RTOL = 1e-13  # convergence of the §VI normal-impulse fixed point, relative to ω1
+FIXED_POINT_MAXITER = 200
+
+
+def _cloth_normal_impulse(s0: np.ndarray, s0n: np.ndarray, approach: np.ndarray, omega: np.ndarray,
+                          M: np.ndarray, cy: np.ndarray, cz: np.ndarray, f: np.ndarray,
+                          S_eps: Any) -> tuple[np.ndarray, np.ndarray]:
+    """ω1 of law (6) on the cloth (§VI), where λ = |T|/ξ depends on ω1 through the exact slip decay: the fixed
+    point ω1 = G(ω1) iterated until it moves less than ``FIXED_POINT_RTOL`` (bounded by ``FIXED_POINT_MAXITER``).
+    Returns ω1 and, per scene, whether it converged. The slip at the greatest compression does not depend on λ."""
+    a_, b_ = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega)
+    w_c = np.hypot(a_, b_)
+
+    def G(lam: np.ndarray) -> np.ndarray:
+        return (2 * approach + 2 * lam * s0n - 2 * lam * w_c) / S_eps(lam)
+
+    def lam_of(om: np.ndarray) -> np.ndarray:
+        a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * om)
+        Tn = np.hypot((np.abs(s0[..., 0]) - a1) / cy, (np.abs(s0[..., 1]) - b1) / cz)
+        return Tn / (M * om)
+
+    om = G(f)
+    done = np.zeros(om.shape, dtype=bool)
+    for _ in range(FIXED_POINT_MAXITER):
+        new = G(lam_of(om))
+        done = np.abs(new - om) <= FIXED_POINT_RTOL * np.abs(new)
+        om = new
+        if done.all():
+            break
+    return om, done
 
 
 def _ode_slip(s0: np.ndarray, alpha: np.ndarray, beta: np.ndarray, tau_end: np.ndarray) -> np.ndarray:
