@@ -95,3 +95,28 @@ def test_experiment_verdicts():
 def test_bad_cushion_input(args, message):
     res = CliRunner().invoke(app, ["simulate", "cushion-impact", "--set", "j=0.2", "--set", "eps=0.3", *args])
     assert res.exit_code == 2 and message in " ".join(res.stderr.split()) and "Traceback" not in res.output
+
+
+@pytest.mark.parametrize("k", [0.5, 1.0, 1.0 + 1e-7, 2.5, 10.0])
+@pytest.mark.parametrize("ratio", [1e-12, 1e-6, 1.0, 1e6, 1e12])
+def test_slip_decay_solves_the_impact_integral_for_every_k_and_slip_ratio(k, ratio):
+    """The Newton solve of the slip decay against a quadrature of its elementary integrand (no ₂F₁): at k = 1
+    scipy's direct ₂F₁(−½, ½; 3/2; z) is wrong below z ≈ −1e4, which Pfaff's transformation avoids."""
+    from scipy.integrate import quad
+
+    from reproductions.mechanics.slip import slip_decay
+
+    a, b, d = 1 + k, k, 1.0
+    S0, F0 = 1.0, ratio
+    g = lambda u: u ** (b - 1) * np.sqrt(S0**2 + F0**2 * u ** (2 * d))  # noqa: E731
+    total = quad(g, 0, 1, epsabs=0, epsrel=1e-13, limit=500, points=[min(1.0, ratio ** -1.0)])[0]
+    for frac in (0.1, 0.5, 0.9, 0.999):
+        T = frac * total
+        f1, s1 = slip_decay(np.array([F0]), np.array([S0]), np.array([a]), np.array([b]), np.array([T]))
+        U = float(s1[0] / S0) ** (1 / b)
+        assert float(f1[0]) == pytest.approx(F0 * U**a, rel=1e-9, abs=1e-300)
+        done = quad(g, U, 1, epsabs=0, epsrel=1e-13, limit=500,
+                    points=[p for p in (ratio ** -1.0,) if U < p < 1] or None)[0]
+        assert done == pytest.approx(T, rel=1e-10), (k, ratio, frac)
+    f1, s1 = slip_decay(np.array([F0]), np.array([S0]), np.array([a]), np.array([b]), np.array([1.001 * total]))
+    assert float(f1[0]) == 0.0 and float(s1[0]) == 0.0  # beyond the budget that stops it, the slip has stopped
