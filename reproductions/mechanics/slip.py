@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import hyp2f1
 
-__all__ = ["slip_decay"]
+__all__ = ["SlipDecay", "slip_decay"]
 
 
 NEWTON_MAXITER = 60  # bound on the Newton iteration; a monotone convex iteration needs ~5-8 steps
@@ -48,13 +48,17 @@ def _H(x: np.ndarray, phi0: np.ndarray, psi0: np.ndarray, beta: np.ndarray, d: n
 
 
 def _solve_x(F0: np.ndarray, S0: np.ndarray, B: np.ndarray, D: np.ndarray, target: np.ndarray,
-             total: np.ndarray) -> np.ndarray:
+             total: np.ndarray, x0: np.ndarray | None = None) -> np.ndarray:
     """x in (0, 1] with H(x) = target < H(1) = total. In x = U^β, H is increasing and convex
     (dH/dx = √(ψ0² + φ0² x^(2d/β))/β grows with x), so Newton from x = 1 descends monotonically onto the root
     without overshooting: no bracket is needed. Stops when the step is below ``NEWTON_RTOL`` of x or the
-    residual below it of H(1); raises if that takes more than ``NEWTON_MAXITER`` steps."""
-    x = np.ones_like(F0)
-    h = total.copy()
+    residual below it of H(1); raises if that takes more than ``NEWTON_MAXITER`` steps. A start ``x0`` left
+    of the root costs one step more: by convexity the first step lands right of it."""
+    if x0 is None:
+        x, h = np.ones_like(F0), total.copy()
+    else:
+        x = np.clip(x0, 0.0, 1.0)
+        h = _H(x, F0, S0, B, D)
     live = np.ones(x.shape, dtype=bool)
     for _ in range(NEWTON_MAXITER):
         i = np.nonzero(live)[0]
@@ -62,7 +66,7 @@ def _solve_x(F0: np.ndarray, S0: np.ndarray, B: np.ndarray, D: np.ndarray, targe
             return x
         slope = np.sqrt(S0[i] ** 2 + F0[i] ** 2 * x[i] ** (2 * D[i] / B[i])) / B[i]
         step = (h[i] - target[i]) / slope
-        xn = np.maximum(x[i] - step, 0.0)
+        xn = np.clip(x[i] - step, 0.0, 1.0)
         x[i] = xn
         h[i] = _H(xn, F0[i], S0[i], B[i], D[i])
         done = (np.abs(step) <= NEWTON_RTOL * xn) | (np.abs(h[i] - target[i]) <= NEWTON_RTOL * total[i])
@@ -73,32 +77,60 @@ def _solve_x(F0: np.ndarray, S0: np.ndarray, B: np.ndarray, D: np.ndarray, targe
     return x
 
 
+class SlipDecay:
+    """The decay of given initial slips, for several impulses τ: H(1) is computed once, and each solve may start
+    from the x of a previous one (the §VI fixed point calls it repeatedly with nearby τ). 1-D arrays."""
+
+    def __init__(self, phi0: np.ndarray, psi0: np.ndarray, alpha: np.ndarray, beta: np.ndarray) -> None:
+        phi0, psi0, alpha, beta = np.broadcast_arrays(*(np.asarray(x, dtype=float).ravel()
+                                                        for x in (phi0, psi0, alpha, beta)))
+        self.swap = alpha < beta
+        self.f0, self.s0 = np.where(self.swap, psi0, phi0), np.where(self.swap, phi0, psi0)
+        self.a, self.b = np.where(self.swap, beta, alpha), np.where(self.swap, alpha, beta)
+        self.only_f = self.s0 == 0
+        self.only_s = (self.f0 == 0) & ~self.only_f
+        self.iso = (self.a == self.b) & ~self.only_f & ~self.only_s
+        self.gen = ~self.only_f & ~self.only_s & ~self.iso
+        self.total = np.full(self.f0.shape, np.nan)
+        g = self.gen
+        self.total[g] = _H(np.ones(int(g.sum())), self.f0[g], self.s0[g], self.b[g], self.a[g] - self.b[g])
+
+    def at(self, tau: np.ndarray, idx: np.ndarray, x0: np.ndarray | None = None
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(|φ1|, |ψ1|, x) for the scenes ``idx`` after the impulses ``tau``; x = U^β where the slip turns
+        (nan elsewhere); ``x0`` a start for the Newton solve (nan: none)."""
+        f0, s0, a, b, T = self.f0[idx], self.s0[idx], self.a[idx], self.b[idx], np.asarray(tau, dtype=float)
+        f1, s1 = np.zeros_like(f0), np.zeros_like(s0)
+        x = np.full(f0.shape, np.nan)
+        o = self.only_f[idx]
+        f1[o] = np.maximum(f0[o] - a[o] * T[o], 0.0)
+        o = self.only_s[idx]
+        s1[o] = np.maximum(s0[o] - b[o] * T[o], 0.0)
+        o = self.iso[idx]
+        v0 = np.hypot(f0[o], s0[o])
+        shrink = np.maximum(v0 - a[o] * T[o], 0.0) / v0
+        f1[o], s1[o] = f0[o] * shrink, s0[o] * shrink
+        g = self.gen[idx]
+        if g.any():
+            F0, S0, B, D, Tg, total = f0[g], s0[g], b[g], a[g] - b[g], T[g], self.total[idx][g]
+            xg = np.zeros_like(F0)
+            xg[Tg <= 0] = 1.0
+            go = (Tg < total) & (Tg > 0)
+            if go.any():
+                start = None if x0 is None else np.asarray(x0)[g][go]
+                if start is not None and not np.all(np.isfinite(start)):
+                    start = np.where(np.isfinite(start), start, 1.0)
+                xg[go] = _solve_x(F0[go], S0[go], B[go], D[go], total[go] - Tg[go], total[go], start)
+            f1[g], s1[g] = F0 * xg ** (a[g] / B), S0 * xg
+            x[g] = xg
+        sw = self.swap[idx]
+        return np.where(sw, s1, f1), np.where(sw, f1, s1), x
+
+
 def slip_decay(phi0: np.ndarray, psi0: np.ndarray, alpha: np.ndarray, beta: np.ndarray,
                tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Slip components (|φ1|, |ψ1|) after the impulse τ ≥ 0, from |φ0|, |ψ0| ≥ 0 (module docstring)."""
-    phi0, psi0, alpha, beta, tau = np.broadcast_arrays(
-        *(np.asarray(x, dtype=float) for x in (phi0, psi0, alpha, beta, tau)))
-    swap = alpha < beta  # make α ≥ β
-    f0, s0 = np.where(swap, psi0, phi0), np.where(swap, phi0, psi0)
-    a, b = np.where(swap, beta, alpha), np.where(swap, alpha, beta)
-    f1, s1 = np.zeros_like(f0), np.zeros_like(s0)
-    only_f = s0 == 0
-    f1[only_f] = np.maximum(f0[only_f] - a[only_f] * tau[only_f], 0.0)
-    only_s = (f0 == 0) & ~only_f
-    s1[only_s] = np.maximum(s0[only_s] - b[only_s] * tau[only_s], 0.0)
-    iso = (a == b) & ~only_f & ~only_s  # the slip keeps its direction and falls at the rate α
-    v0 = np.hypot(f0[iso], s0[iso])
-    shrink = np.maximum(v0 - a[iso] * tau[iso], 0.0) / v0
-    f1[iso], s1[iso] = f0[iso] * shrink, s0[iso] * shrink
-    gen = ~only_f & ~only_s & ~iso
-    if np.any(gen):
-        F0, S0, B, D, T = f0[gen], s0[gen], b[gen], a[gen] - b[gen], tau[gen]
-        total = _H(np.ones_like(F0), F0, S0, B, D)
-        stops = T >= total
-        x = np.zeros_like(F0)
-        go = ~stops & (T > 0)
-        x[T <= 0] = 1.0
-        if go.any():
-            x[go] = _solve_x(F0[go], S0[go], B[go], D[go], total[go] - T[go], total[go])
-        f1[gen], s1[gen] = F0 * x ** (a[gen] / B), S0 * x
-    return np.where(swap, s1, f1), np.where(swap, f1, s1)
+    arrays = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (phi0, psi0, alpha, beta, tau)))
+    shape = arrays[0].shape
+    f1, s1, _ = SlipDecay(*arrays[:4]).at(arrays[4].ravel(), np.arange(arrays[0].size))
+    return f1.reshape(shape), s1.reshape(shape)

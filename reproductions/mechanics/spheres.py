@@ -35,7 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .paths import PathCode, Regime, codes
-from .slip import slip_decay
+from .slip import SlipDecay, slip_decay
 
 __all__ = ["METHODS", "SpheresImpact", "contact_slip", "two_spheres"]
 
@@ -121,6 +121,7 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
                  else "Résal's §V eqs (5), (8), sliding assumed throughout")
     else:
         converged = np.ones(batch, dtype=bool)
+        final = None  # on the cloth: the slip decay and its last roots, to end the fixed point from a warm start
         if not on_cloth:
             w_c = np.maximum(s0n - f * cy * M * omega, 0.0)
             omega1 = (2 * approach + 2 * f * s0n - 2 * f * w_c) / S_eps(f)
@@ -132,13 +133,18 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
             disc = np.maximum(approach**2 - alpha * beta, 0.0)
             omega1 = np.where(stick, (approach + np.sqrt(disc)) / alpha, omega1)
         else:
-            omega1, converged = _cloth_normal_impulse(s0, s0n, approach, omega, M, cy, cz, f, S_eps)
+            omega1, converged, final = _cloth_normal_impulse(s0, s0n, approach, omega, M, cy, cz, f, S_eps)
         xi = M * omega1
         if method == "ode":
             s1 = _ode_slip(s0, M * cy, M * cz, f * omega1)
             label = "ODE of the slip in the normal impulse (DOP853), with the exact normal impulse"
         else:
-            a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
+            if final is None:
+                a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
+            else:
+                dec, xs = final
+                a1, b1, _ = dec.at(np.ravel(f * omega1), np.arange(xs.size), xs)
+                a1, b1 = a1.reshape(batch), b1.reshape(batch)
             s1 = np.stack([np.sign(s0[..., 0]) * a1, np.sign(s0[..., 1]) * b1], axis=-1)
             label = ("exact: slip decay in closed form (₂F₁), normal impulse from law (6) at a fixed point"
                      if on_cloth else "exact: closed form, sliding or sticking (law (6) as a quadratic)")
@@ -156,30 +162,51 @@ FIXED_POINT_MAXITER = 200
 
 def _cloth_normal_impulse(s0: np.ndarray, s0n: np.ndarray, approach: np.ndarray, omega: np.ndarray,
                           M: np.ndarray, cy: np.ndarray, cz: np.ndarray, f: np.ndarray,
-                          S_eps: Any) -> tuple[np.ndarray, np.ndarray]:
-    """ω1 of law (6) on the cloth (§VI), where λ = |T|/ξ depends on ω1 through the exact slip decay: the fixed
-    point ω1 = G(ω1) iterated until it moves less than ``FIXED_POINT_RTOL`` (bounded by ``FIXED_POINT_MAXITER``).
-    Returns ω1 and, per scene, whether it converged. The slip at the greatest compression does not depend on λ."""
-    a_, b_ = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega)
+                          S_eps: Any) -> tuple[np.ndarray, np.ndarray, tuple[SlipDecay, np.ndarray]]:
+    """ω1 of law (6) on the cloth (§VI), where λ = |T|/ξ depends on ω1 through the exact slip decay: the root of
+    h(ω) = G(λ(ω)) − ω, by the secant method from the first two fixed-point iterates (a fixed-point step where
+    the secant is undefined), until ω moves less than ``FIXED_POINT_RTOL`` of itself (bounded by
+    ``FIXED_POINT_MAXITER``). Returns ω1, per scene whether it converged, and the slip decay with its last
+    roots (a warm start for the final decay). The slip at the greatest
+    compression does not depend on λ. ``S_eps`` is evaluated on the whole batch (λ per scene)."""
+    shape = s0n.shape
+    a0, b0 = np.abs(s0[..., 0]).ravel(), np.abs(s0[..., 1]).ravel()
+    M, cy, cz, f, approach, s0n = (np.ravel(x) for x in (M, cy, cz, f, approach, s0n))
+    dec = SlipDecay(a0, b0, M * cy, M * cz)
+    everyone = np.arange(a0.size)
+    a_, b_, _ = dec.at(f * np.ravel(omega), everyone)
     w_c = np.hypot(a_, b_)
+    xs = np.full(a0.size, np.nan)  # the last Newton root per scene: the next solve starts there
 
-    def G(lam: np.ndarray) -> np.ndarray:
-        return (2 * approach + 2 * lam * s0n - 2 * lam * w_c) / S_eps(lam)
+    def S(lam: np.ndarray) -> np.ndarray:
+        return np.ravel(S_eps(lam.reshape(shape)))
 
-    def lam_of(om: np.ndarray) -> np.ndarray:
-        a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * om)
-        Tn = np.hypot((np.abs(s0[..., 0]) - a1) / cy, (np.abs(s0[..., 1]) - b1) / cz)
-        return Tn / (M * om)
+    def G_of(om: np.ndarray, i: np.ndarray) -> np.ndarray:
+        """G(λ(ω)) on the scenes ``i`` (λ elsewhere left at f: S_eps takes the whole batch)."""
+        a1, b1, xs[i] = dec.at(f[i] * om, i, xs[i])
+        lam = f.copy()
+        lam[i] = np.hypot((a0[i] - a1) / cy[i], (b0[i] - b1) / cz[i]) / (M[i] * om)
+        return ((2 * approach + 2 * lam * s0n - 2 * lam * w_c) / S(lam))[i]
 
-    om = G(f)
-    done = np.zeros(om.shape, dtype=bool)
+    x0 = (2 * approach + 2 * f * s0n - 2 * f * w_c) / S(f)  # λ = f: the first guess
+    x1 = G_of(x0, everyone)
+    prev, hprev = x0, x1 - x0
+    om = x1.copy()
+    done = np.abs(hprev) <= FIXED_POINT_RTOL * np.abs(om)
     for _ in range(FIXED_POINT_MAXITER):
-        new = G(lam_of(om))
-        done = np.abs(new - om) <= FIXED_POINT_RTOL * np.abs(new)
-        om = new
-        if done.all():
+        live = np.nonzero(~done)[0]
+        if live.size == 0:
             break
-    return om, done
+        g = G_of(om[live], live)
+        h = g - om[live]
+        denom = h - hprev[live]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sec = om[live] - h * (om[live] - prev[live]) / denom
+        nxt = np.where(np.isfinite(sec) & (sec > 0) & (denom != 0), sec, g)  # else a fixed-point step
+        prev[live], hprev[live] = om[live], h
+        om[live] = nxt
+        done[live] = np.abs(nxt - prev[live]) <= FIXED_POINT_RTOL * np.abs(nxt)
+    return om.reshape(shape), done.reshape(shape), (dec, xs)
 
 
 def _ode_slip(s0: np.ndarray, alpha: np.ndarray, beta: np.ndarray, tau_end: np.ndarray) -> np.ndarray:
