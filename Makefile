@@ -24,7 +24,7 @@ lint: $(STAMP)
 	$(BIN)/ruff check .
 
 bench: $(STAMP)
-	$(BIN)/python -m reproductions.bench
+	$(BIN)/resal bench
 
 stress: $(STAMP)
 	$(BIN)/python -m reproductions.stress

@@ -212,6 +212,48 @@ def fit(
         out_console.print(Text(f"{i['data']}: rank {i['rank']} of {len(i['parameters'])} (singular values {sv})"))
 
 
+@app.command()
+def bench(
+    models: Annotated[list[str] | None, typer.Argument(help="models (default: all; see simulate --list)")] = None,
+    quick: Annotated[bool, typer.Option("--quick", help="small batches: a check that ends in seconds")] = False,
+    out: Annotated[Path, typer.Option("--out", help="folder for bench.json, bench.md, figures")] = Path(
+        "results/bench"),
+) -> None:
+    """Work-precision benchmark of every model × path: time per scene against error, and auto's Pareto verdict."""
+    from rich.progress import Progress
+
+    from reproductions import bench as bench_mod
+    from reproductions.mechanics import registry
+
+    names = list(models or [])
+    unknown = [m for m in names if m not in registry.MODELS]
+    if unknown:
+        _fail(InputError(f"model '{unknown[0]}'", f"unknown model (expected some of: {', '.join(registry.MODELS)})"))
+    total = sum(len(registry.MODELS[m].paths) + 1 for m in (names or registry.MODELS))
+    with Progress(console=err_console, transient=True) as bar:
+        task = bar.add_task("benchmark", total=total)
+
+        def step(what: str) -> None:
+            bar.update(task, advance=1, description=what)
+
+        rep = bench_mod.run(names, quick=quick, progress=step)
+    try:
+        written = bench_mod.write(rep, out)
+    except OSError as err:
+        _fail(InputError(f"--out {out}", f"cannot write the benchmark ({err.strerror or err})"))
+    t = Table(title="work-precision (scenes per second; max error where the path declares itself exact)")
+    for c in ("model", "path", "kind", "scenes/s", "max error", "auto"):
+        t.add_column(c)
+    for mod in rep["models"]:
+        wrong = [v for v in mod["pareto"] if v["faster_and_as_accurate"]]
+        for r in mod["paths"]:
+            e = r["where_exact"]["max_error"]
+            t.add_row(mod["model"], r["path"], r["kind"], f"{r['scenes_per_second']:.3g}",
+                      "—" if e is None else f"{e:.2e}", ("wrong" if wrong else "right") if r["path"] == "auto" else "")
+    out_console.print(t)
+    err_console.print(f"wrote {', '.join(str(p) for p in written[:2])} and {len(written) - 2} figure files")
+
+
 def _read_summary(path: Path) -> dict[str, Any]:
     f = path / "summary.json" if path.is_dir() else path
     try:

@@ -1,25 +1,43 @@
-"""Work-precision benchmark (``make bench``): run time against error for every model × path of the registry.
+"""Work-precision benchmark (``resal bench``, ``make bench``): run time against error for every model × path.
 
-Each path of ``mechanics.registry`` is timed on the model's random scenes (closed forms on a large batch, the
-ODE on a few) and its error measured against the ODE reference, both where it declares itself exact and over
-all scenes (an approximation's error where its premise fails); ``auto`` is timed beside them. For §I the
-reference integration is also run at several tolerances (the work-precision curve). Writes
-``results/bench/work-precision.{md,json,png}`` and prints the table.
+For each model of ``mechanics.registry``, a seeded batch of random scenes from the model's physical range. Each
+path is timed (minimum over repeats after a warm-up, ``time.perf_counter``) on a large batch (closed forms) or
+a small one (ODE paths), and judged against a reference computed by a *different* method: the ODE path for the
+closed forms and approximations, the exact path for the ODE itself. Errors are the model's own measure
+(``Model.error``: the largest output difference over the scene's speed scale); failures count as NaN and are
+never dropped. Beside each path, its speed as a fraction of a floor measured in the same run: one elementwise
+numpy pass over the batch's inputs and outputs. For §I the two-phase contact is also integrated at a grid of
+tolerances (the work-precision curve of an ODE).
+
+The Pareto verdict: for each model and scene class (the path ``auto`` chose × the regime), whether another path
+that declares itself exact there is both faster and at least as accurate; then ``auto`` would be wrong, and the
+declarations are what to fix. Writes ``results/bench/bench.{json,md}`` and ``work-precision-<model>.{png,pdf}``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import platform
 import sys
 import time
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from .mechanics import paths, reference, registry
 
+__all__ = ["FULL", "QUICK", "run", "write"]
 
-def _best_of(fn, repeat: int = 5) -> float:
+FULL = {"n_fast": 100_000, "n_ode": 40, "repeat": 3}
+FASTER = 1.5  # "faster" in the Pareto verdict: by at least this factor (paths of equal cost differ by timing noise)
+QUICK = {"n_fast": 2_000, "n_ode": 4, "repeat": 1}
+
+
+def _best_of(fn: Callable[[], Any], repeat: int) -> float:
+    fn()  # warm-up
     best = float("inf")
     for _ in range(repeat):
         t0 = time.perf_counter()
@@ -28,100 +46,199 @@ def _best_of(fn, repeat: int = 5) -> float:
     return best
 
 
-def run(n_closed: int = 1_000_000, n_ode: int = 40) -> list[dict]:
+def _take(m: paths.Model, s: dict[str, np.ndarray], keep: np.ndarray) -> dict[str, np.ndarray]:
+    return {k: (v if k in m.static else v[keep]) for k, v in s.items()}
+
+
+def _floor(m: paths.Model, s: dict[str, np.ndarray], res: Any, repeat: int) -> float:
+    """One elementwise numpy pass over the batch's inputs and outputs (a copy of each array)."""
+    arrays = [v for k, v in s.items() if k not in m.static and k != paths.ONES]
+    arrays += [v for v in (getattr(res, f.name) for f in dataclasses.fields(res)) if isinstance(v, np.ndarray)]
+    return _best_of(lambda: [np.copy(a) for a in arrays], repeat)
+
+
+def _stats(err: np.ndarray) -> dict[str, float | int | None]:
+    bad = ~np.isfinite(err)
+    ok = err[~bad]
+    return {"median_error": float(np.median(ok)) if ok.size else None,
+            "max_error": float(np.max(ok)) if ok.size else None, "failures": int(bad.sum())}
+
+
+def model_rows(m: paths.Model, n_fast: int, n_ode: int, repeat: int, seed: int = 5,
+               progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+    """Every path of one model and ``auto``: errors against the reference, times, the floor, the verdict."""
+    small = m.scene(m.sample(np.random.default_rng(seed), n_ode))
+    big = m.scene(m.sample(np.random.default_rng(seed + 1), n_fast))
+    refs = {"ode": paths.solve(m, small, "ode"), "exact": None}
+    exact_name = next(p.name for p in m.paths if p.code is paths.PathCode.EXACT)
+    refs["exact"] = paths.solve(m, small, exact_name)
+    auto_small = paths.solve(m, small, "auto")
     rows = []
+    for name in [p.name for p in m.paths] + ["auto"]:
+        if progress:
+            progress(f"{m.name}: {name}")
+        p = m.path(name) if name != "auto" else None
+        keep = np.ones(n_ode, bool) if p is None else np.asarray(p.handles(small), dtype=bool)
+        sub = _take(m, small, keep)
+        ref_name = exact_name if name == "ode" else "ode"
+        ref = refs[ref_name]
+        ref_sub = paths.solve(m, sub, ref_name) if not keep.all() else ref
+        res = paths.solve(m, sub, name)
+        err = m.error(sub, res, ref_sub)
+        exact = np.ones(err.shape, bool) if p is None else np.asarray(p.exact_when(sub), dtype=bool)
+        ode_cost = p is not None and p.cost >= 1000
+        batch = small if ode_cost else big
+        if p is not None:
+            batch = _take(m, batch, np.asarray(p.handles(batch), dtype=bool))
+        count = int(np.size(batch[paths.ONES]))
+        t = _best_of(lambda b=batch, n=name: paths.solve(m, b, n), 1 if ode_cost else repeat) if count else np.nan
+        # what it costs auto to know that this path is exact for a scene (its declared predicate)
+        t_pred = _best_of(lambda b=batch, q=p: q.exact_when(b), repeat) if count and p is not None else 0.0
+        floor = _floor(m, batch, paths.solve(m, batch, name), repeat) if count else np.nan
+        rows.append({
+            "path": name, "kind": "auto" if p is None else p.kind.value, "cost": None if p is None else p.cost,
+            "declared_accuracy": None if p is None else p.accuracy, "reference": ref_name,
+            "scenes_timed": count, "seconds_per_scene": t / max(count, 1), "scenes_per_second": count / t,
+            "predicate_seconds_per_scene": t_pred / max(count, 1),
+            "floor_fraction": floor / t, "where_exact": _stats(err[exact]) | {"scenes": int(exact.sum())},
+            "all_scenes": _stats(err) | {"scenes": int(err.size)},
+        })
+    return {"model": m.name, "section": m.section, "paths": rows, "pareto": _pareto(m, small, auto_small, rows)}
+
+
+def _pareto(m: paths.Model, small: dict[str, np.ndarray], auto: Any, rows: list[dict]) -> list[dict]:
+    """Per scene class (auto's path × regime): is another path declaring itself exact there faster and at least as
+    accurate against the reference (faster by ``FASTER`` at least, its predicate's cost included)? Then auto chose
+    wrong."""
+    speed = {r["path"]: r["seconds_per_scene"] for r in rows}
+    check = {r["path"]: r.get("predicate_seconds_per_scene", 0.0) for r in rows}
+    out = []
+    ref = paths.solve(m, small, "ode")
+    for code in np.unique(auto.path):
+        for regime in np.unique(auto.regime[auto.path == code]):
+            sel = (auto.path == code) & (auto.regime == regime)
+            sub = _take(m, small, sel)
+            chosen = next(p for p in m.paths if p.code == code)
+            err_c = float(np.max(m.error(sub, _take_res(auto, sel), _take_res(ref, sel))))
+            better = []
+            for p in m.paths:
+                if p is chosen or p.code is paths.PathCode.ODE:
+                    continue
+                ok = np.asarray(p.handles(sub), bool) & np.asarray(p.exact_when(sub), bool)
+                if not ok.all():
+                    continue
+                e = float(np.max(m.error(sub, paths.solve(m, sub, p.name), _take_res(ref, sel))))
+                # the alternative pays for its own predicate, which auto would have to evaluate to use it
+                if (speed[p.name] + check[p.name]) * FASTER < speed[chosen.name] and e <= max(err_c, chosen.accuracy):
+                    better.append(p.name)
+            out.append({"auto_path": chosen.name, "regime": paths.Regime(int(regime)).name.lower(),
+                        "scenes": int(sel.sum()), "max_error": err_c, "faster_and_as_accurate": better,
+                        "verdict": "auto is right" if not better else "auto is wrong: " + ", ".join(better)})
+    return out
+
+
+def _take_res(res: Any, sel: np.ndarray) -> Any:
+    values = {}
+    for f in dataclasses.fields(res):
+        v = getattr(res, f.name)
+        values[f.name] = v[sel] if isinstance(v, np.ndarray) and v.ndim >= 1 else v
+    return type(res)(**values)
+
+
+def direct_impact_curve(n: int, repeat: int) -> list[dict]:
+    """§I: the two-phase contact integrated at a grid of tolerances against the closed form (DOP853)."""
     m = registry.MODELS["direct-impact"]
-    big = m.scene(m.sample(np.random.default_rng(0), n_closed))
-    t = _best_of(lambda: paths.solve(m, big, "exact"))
-    rows.append({"path": "closed form eq. (7)", "tolerance": None, "seconds_per_scene": t / n_closed,
-                 "max_rel_error": 0.0, "scenes": n_closed})
-    small = m.scene(m.sample(np.random.default_rng(1), n_ode))
-    exact = paths.solve(m, small, "exact")
-    V0, V0p = small["V0"], small["V0p"]
+    s = m.scene(m.sample(np.random.default_rng(1), n))
+    exact = paths.solve(m, s, "exact")
+    out = []
     for rtol in (1e-4, 1e-6, 1e-8, 1e-10, 1e-12):
         def integrate(rtol: float = rtol) -> reference.ReferenceImpact:
-            return reference.integrate_direct_impact(small["M"], small["Mp"], V0, V0p, exact.newton_e, rtol=rtol,
-                                                     atol=rtol * 1e-2)
+            return reference.integrate_direct_impact(s["M"], s["Mp"], s["V0"], s["V0p"], exact.newton_e,
+                                                     rtol=rtol, atol=rtol * 1e-2)
 
-        t = _best_of(integrate, repeat=3)
-        ode = integrate()
-        err = max(np.max(np.abs(ode.V1 - exact.V1) / np.abs(V0 - V0p)),
-                  np.max(np.abs(ode.V1p - exact.V1p) / np.abs(V0 - V0p)))
-        rows.append({"path": "ODE two-phase contact (DOP853)", "tolerance": rtol, "seconds_per_scene": t / n_ode,
-                     "max_rel_error": float(err), "scenes": n_ode, "mean_nfev": float(np.mean(ode.nfev))})
-    rows += registry_rows()
-    return rows
+        t = _best_of(integrate, repeat)
+        r = integrate()
+        err = np.maximum(np.abs(r.V1 - exact.V1), np.abs(r.V1p - exact.V1p)) / np.abs(s["V0"] - s["V0p"])
+        out.append({"rtol": rtol, "seconds_per_scene": t / n, "max_error": float(err.max()),
+                    "mean_nfev": float(np.mean(r.nfev))})
+    return out
 
 
-def registry_rows(n_fast: int = 20_000, n_ode: int = 24, seed: int = 5) -> list[dict]:
-    """Every model × path (and auto): seconds per scene, and the largest error against the ODE path."""
-    rows = []
-    for m in registry.MODELS.values():
-        rng = np.random.default_rng(seed)
-        small = m.scene(m.sample(rng, n_ode))
-        ode = paths.solve(m, small, "ode")
-        for name in [p.name for p in m.paths] + ["auto"]:
-            p = m.path(name) if name != "auto" else None
-            keep = np.ones(n_ode, dtype=bool) if p is None else np.asarray(p.handles(small), dtype=bool)
-            sub = {k: (v if k in m.static else v[keep]) for k, v in small.items()}
-            ode_sub = paths.solve(m, sub, "ode") if not keep.all() else ode
-            res = paths.solve(m, sub, name)
-            err = m.error(sub, res, ode_sub)
-            exact = np.ones(err.shape, bool) if p is None else np.asarray(p.exact_when(sub), dtype=bool)
-            n = n_ode if p is not None and p.cost >= 1000 else n_fast
-            big = m.scene(m.sample(np.random.default_rng(seed + 1), n))
-            if p is not None:
-                ok = np.asarray(p.handles(big), dtype=bool)
-                big = {k: (v if k in m.static else v[ok]) for k, v in big.items()}
-            count = int(np.size(big[paths.ONES]))
-            t = _best_of(lambda m=m, big=big, name=name: paths.solve(m, big, name), repeat=1 if n == n_ode else 3)
-            rows.append({"path": f"{m.name}: {name}", "tolerance": None, "seconds_per_scene": t / max(count, 1),
-                         "max_rel_error": float(err[exact].max()) if exact.any() else None,
-                         "max_rel_error_all": float(err.max()) if err.size else None, "scenes": count,
-                         "kind": "auto" if p is None else p.kind.value})
-    return rows
+def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str], None] | None = None) -> dict:
+    """The benchmark report (``bench.json``): per model its paths and Pareto verdict, and the machine."""
+    cfg = QUICK if quick else FULL
+    chosen = list(models) or list(registry.MODELS)
+    unknown = [x for x in chosen if x not in registry.MODELS]
+    if unknown:
+        raise KeyError(f"unknown model(s) {', '.join(unknown)} (expected some of: {', '.join(registry.MODELS)})")
+    import scipy
+
+    report = {"quick": quick, "config": cfg, "timer": "time.perf_counter, minimum over repeats after a warm-up",
+              "machine": {"python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__,
+                          "processor": platform.processor() or platform.machine(), "system": platform.system()},
+              "models": [model_rows(registry.MODELS[x], cfg["n_fast"], cfg["n_ode"], cfg["repeat"],
+                                    progress=progress) for x in chosen]}
+    if "direct-impact" in chosen:
+        report["direct_impact_ode_tolerances"] = direct_impact_curve(cfg["n_ode"], cfg["repeat"])
+    return report
 
 
-def _write(rows: list[dict], out: Path) -> None:
+def _e(x: float | None) -> str:
+    return "—" if x is None else f"{x:.2e}"
+
+
+def write(report: dict, out: Path) -> list[Path]:
+    """bench.json, bench.md and one work-precision figure per model (PNG and PDF)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     out.mkdir(parents=True, exist_ok=True)
-    (out / "work-precision.json").write_text(json.dumps(rows, indent=2) + "\n")
-    def e(x: float | None) -> str:
-        return "—" if x is None else f"{x:.2e}"
+    written = [out / "bench.json", out / "bench.md"]
+    (out / "bench.json").write_text(json.dumps(report, indent=1) + "\n", encoding="utf-8")
+    lines = ["# Work-precision benchmark", "", f"Timer: {report['timer']}. Machine: {report['machine']}.", ""]
+    for mod in report["models"]:
+        lines += [f"## {mod['model']} ({mod['section']})", "",
+                  "| path | kind | reference | scenes/s | floor fraction | max error where exact | median | "
+                  "max error, all scenes | failures |", "|---|---|---|---|---|---|---|---|---|"]
+        for r in mod["paths"]:
+            w, a = r["where_exact"], r["all_scenes"]
+            lines.append(f"| {r['path']} | {r['kind']} | {r['reference']} | {r['scenes_per_second']:.3g} | "
+                         f"{r['floor_fraction']:.2g} | {_e(w['max_error'])} | {_e(w['median_error'])} | "
+                         f"{_e(a['max_error'])} | {a['failures']} |")
+        lines += ["", "Pareto verdict (per scene class that auto serves):", ""]
+        lines += [f"- {v['auto_path']}, {v['regime']} ({v['scenes']} scenes): {v['verdict']}" for v in mod["pareto"]]
+        lines.append("")
+        fig, ax = plt.subplots(figsize=(6, 4.2), layout="constrained")
+        for i, r in enumerate(mod["paths"]):
+            e = r["all_scenes"]["max_error"]
+            ax.loglog([max(e if e is not None else np.nan, 1e-17)], [r["seconds_per_scene"]], "o",
+                      color=f"C{i % 10}", label=f"{r['path']} ({r['kind']})")
+        ax.set(xlabel=f"max error against the reference ({mod['model']}'s measure)", ylabel="seconds per scene",
+               title=f"Work-precision: {mod['model']}")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=8)
+        for ext in ("png", "pdf"):
+            p = out / f"work-precision-{mod['model']}.{ext}"
+            fig.savefig(p, dpi=110, metadata={"Software": None} if ext == "png" else {"Creator": None})
+            written.append(p)
+        plt.close(fig)
+    if "direct_impact_ode_tolerances" in report:
+        lines += ["## §I: the two-phase contact at a grid of tolerances (DOP853, against eq. 7)", "",
+                  "| rtol | seconds per scene | max error | mean nfev |", "|---|---|---|---|"]
+        lines += [f"| {r['rtol']:g} | {r['seconds_per_scene']:.3g} | {r['max_error']:.2e} | {r['mean_nfev']:.1f} |"
+                  for r in report["direct_impact_ode_tolerances"]]
+    (out / "bench.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return written
 
-    lines = ["| path | rtol | time per scene | max rel. error where exact | over all scenes | mean nfev |",
-             "|---|---|---|---|---|---|"]
-    lines += [f"| {r['path']} | {r['tolerance'] or '—'} | {r['seconds_per_scene']:.3g} s | {e(r['max_rel_error'])} "
-              f"| {e(r.get('max_rel_error_all'))} | {r.get('mean_nfev', '—')} |" for r in rows]
-    (out / "work-precision.md").write_text("\n".join(lines) + "\n")
-    fig, ax = plt.subplots(figsize=(6, 4.2), layout="constrained")
-    ode = [r for r in rows if r["tolerance"] and r["path"].startswith("ODE two-phase")]
-    ax.loglog([max(r["max_rel_error"], 1e-17) for r in ode], [r["seconds_per_scene"] for r in ode], "o-",
-              label="ODE reference, rtol 1e-4 … 1e-12")
-    ax.axhline(rows[0]["seconds_per_scene"], color="C3", ls="--", label="closed form eq. (7) (exact)")
-    ax.set(xlabel="max relative error of V1, V1′", ylabel="seconds per scene", title="Work-precision, §I direct impact")
-    ax.grid(alpha=0.3, which="both")
-    ax.legend()
-    fig.savefig(out / "work-precision.png", dpi=120, metadata={"Software": None})
-    plt.close(fig)
-    print("\n".join(lines))
 
-
-def main() -> int:
-    rows = run()
-    _write(rows, Path("results") / "bench")
-    by = {r["path"]: r["seconds_per_scene"] for r in rows}
-    ode = min(r["seconds_per_scene"] for r in rows if r["path"].startswith("ODE two-phase"))
-    print(f"§I: the closed form is {ode / by['closed form eq. (7)']:.3g}× faster per scene than the cheapest ODE run")
-    for m in registry.MODELS:
-        t = {r["path"].split(": ")[1]: r["seconds_per_scene"] for r in rows if r["path"].startswith(m + ": ")}
-        print(f"{m}: auto is {t['ode'] / t['auto']:.3g}× faster per scene than the ODE reference")
+def main(argv: list[str]) -> int:
+    rep = run(quick="--quick" in argv, progress=lambda s: print(s, file=sys.stderr))
+    write(rep, Path("results") / "bench")
+    print((Path("results") / "bench" / "bench.md").read_text(encoding="utf-8"))
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(sys.argv[1:]))

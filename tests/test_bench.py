@@ -1,0 +1,50 @@
+"""`resal bench --quick`: the report's shape, and every path's error where it declares itself exact within its
+declared accuracy (speed is measured by the benchmark, never asserted in a test)."""
+
+import json
+
+import pytest
+from typer.testing import CliRunner
+
+from cli.main import app
+from reproductions.mechanics import registry
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench")
+    res = CliRunner().invoke(app, ["bench", "--quick", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    return out, json.loads((out / "bench.json").read_text(encoding="utf-8"))
+
+
+def test_bench_reports_every_model_and_path_with_its_figures(report):
+    out, rep = report
+    assert [m["model"] for m in rep["models"]] == list(registry.MODELS)
+    for mod in rep["models"]:
+        m = registry.MODELS[mod["model"]]
+        assert [r["path"] for r in mod["paths"]] == [p.name for p in m.paths] + ["auto"]
+        for r in mod["paths"]:
+            assert r["scenes_timed"] > 0 and r["seconds_per_scene"] > 0 and r["reference"] != r["path"]
+            assert r["all_scenes"]["failures"] == 0
+        assert mod["pareto"] and all(v["verdict"] for v in mod["pareto"])
+        for ext in ("png", "pdf"):
+            assert (out / f"work-precision-{mod['model']}.{ext}").stat().st_size > 0
+    assert "## cushion-impact" in (out / "bench.md").read_text(encoding="utf-8")
+    assert len(rep["direct_impact_ode_tolerances"]) == 5
+
+
+def test_every_path_is_as_accurate_as_it_declares_where_it_declares_itself_exact(report):
+    _, rep = report
+    for mod in rep["models"]:
+        m = registry.MODELS[mod["model"]]
+        for r in mod["paths"]:
+            if r["path"] == "auto" or r["where_exact"]["scenes"] == 0:
+                continue
+            tol = max(m.path(r["path"]).accuracy, m.path(r["reference"]).accuracy)
+            assert r["where_exact"]["max_error"] <= tol, (mod["model"], r["path"])
+
+
+def test_bench_refuses_an_unknown_model():
+    res = CliRunner().invoke(app, ["bench", "nope", "--quick"])
+    assert res.exit_code == 2 and "unknown model" in res.stderr
