@@ -20,6 +20,7 @@ sigma, no uncertainty is claimed.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -436,6 +437,18 @@ def _positions_jac(th: np.ndarray, k: float, n: int) -> np.ndarray:
     return np.cumsum(np.c_[A * ((j + 1) * nu**j * c + w * dc_dnu), w * c, A * w * dc_du], axis=0)
 
 
+@functools.lru_cache(maxsize=32)
+def _position_grid(k: float, n: int) -> tuple[np.ndarray, ...]:
+    """The (ν, u) start grid of ``fit_positions`` and its unit-A position shapes: the same for every series of
+    n + 1 imprints (computed once, not per fit)."""
+    nu_g, u_g = np.meshgrid(np.linspace(0.05, 1.0, 96), np.linspace(0.0, 1.0, 101), indexing="ij")
+    shape = plane.ricochet_ranges_spinless(nu_g, 1.0, u_g, k, n).cumsum(axis=-1)
+    norm2 = np.maximum(np.einsum("...j,...j->...", shape, shape), 1e-300)
+    for a in (nu_g, u_g, shape, norm2):
+        a.flags.writeable = False
+    return nu_g, u_g, shape, norm2
+
+
 def fit_positions(x: np.ndarray, *, k: float) -> FitResult:
     """Fit (ν, A, u) of the spinless ricochet closed form to imprint positions measured from the first imprint.
 
@@ -451,12 +464,12 @@ def fit_positions(x: np.ndarray, *, k: float) -> FitResult:
     def jac(th: np.ndarray) -> np.ndarray:
         return _positions_jac(th, k, n)
 
-    # A enters linearly: profile it out on a (ν, u) grid to find the basin of the global minimum, then polish
-    nu_g, u_g = np.meshgrid(np.linspace(0.05, 1.0, 96), np.linspace(0.0, 1.0, 101), indexing="ij")
-    shape = plane.ricochet_ranges_spinless(nu_g, 1.0, u_g, k, n).cumsum(axis=-1)
-    A_g = np.einsum("...j,j->...", shape, x[1:]) / np.maximum(np.einsum("...j,...j->...", shape, shape), 1e-300)
-    cost = np.sum((A_g[..., None] * shape - x[1:]) ** 2, axis=-1)
-    i = np.unravel_index(np.argmin(cost), cost.shape)
+    # A enters linearly: profile it out on a (ν, u) grid to find the basin of the global minimum, then polish.
+    # With A = (s·x)/(s·s) for the grid's shapes s, the cost Σ(A s − x)² is |x|² − (s·x)²/(s·s).
+    nu_g, u_g, shape, norm2 = _position_grid(float(k), n)
+    sx = np.einsum("...j,j->...", shape, x[1:])
+    A_g = sx / norm2
+    i = np.unravel_index(np.argmax(sx * A_g), sx.shape)
     return least_squares_fit(res, [nu_g[i], A_g[i], u_g[i]], ["nu", "A", "u"],
                              ([1e-3, 1e-6, 0.0], [1.0, 100.0, 5.0]), jac=jac)
 
