@@ -75,8 +75,10 @@ def _wall_ode(s: Scene) -> impact.WallImpact:
 
 def _direct_sample(rng: np.random.Generator, n: int) -> Scene:
     V0 = rng.uniform(0.5, 3.0, n)
+    eps, epsp = rng.uniform(0.0, 1.0, n), rng.uniform(0.0, 1.0, n)
+    eps[::4] = epsp[::4] = 1 - 10 ** -rng.uniform(2, 4, eps[::4].size)  # nearly plastic: a short, stiff restitution
     return {"M": rng.uniform(0.1, 5.0, n), "Mp": rng.uniform(0.1, 5.0, n), "V0": V0,
-            "V0p": V0 - rng.uniform(0.2, 3.0, n), "eps": rng.uniform(0.0, 1.0, n), "epsp": rng.uniform(0.0, 1.0, n)}
+            "V0p": V0 - rng.uniform(0.2, 3.0, n), "eps": eps, "epsp": epsp}
 
 
 # ---- §III: sphere on a plane, ricochets ------------------------------------------------------------------------
