@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import json
 import os
-from functools import partial
+import shutil
+import tempfile
 from pathlib import Path
 from typing import Annotated, Any, NoReturn
 
@@ -93,8 +94,17 @@ def reproduce(
         with err_console.status("") as status:
             # run all first: a bad data file stops everything before anything is written
             reps = api.parallel_map(api.run, exps, jobs, lambda d, n: status.update(f"running: {d}/{n} done"))
-            folders = api.parallel_map(partial(report.write_reproduction, out=out), reps, jobs,
-                                       lambda d, n: status.update(f"writing tables and figures: {d}/{n} done"))
+            # figures one by one across the processes (an experiment with many figures no longer sets the pace)
+            scratch = Path(tempfile.mkdtemp(dir=out, prefix=".figures-"))
+            try:
+                figs = [(spec, scratch / r.experiment.id) for r in reps for spec in r.figures]
+                figs.sort(key=lambda job: -sum(len(ly.z) > 0 for ly in job[0].layers))  # heatmaps first
+                report.prepare_drawing()
+                api.parallel_map(report.draw_figure, figs, jobs,
+                                 lambda d, n: status.update(f"drawing figures: {d}/{n} done"))
+                folders = [report.write_reproduction(r, out, drawn=scratch / r.experiment.id) for r in reps]
+            finally:
+                shutil.rmtree(scratch, ignore_errors=True)
             summaries = [json.loads((f / "summary.json").read_text(encoding="utf-8")) for f in folders]
             report.write_index(out)
     except InputError as err:

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from enum import Enum
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import optimize, special
 
 from .mechanics import impact, plane
 
@@ -321,9 +321,9 @@ def _analyse(pb: _Problem, residuals: Callable[[np.ndarray], np.ndarray], x: np.
     dof = m - rank
     rss = float(r @ r)
     if sigma is not None:
-        s2, q, noise = 1.0, float(stats.norm.ppf(0.975)), "given sigma"
+        s2, q, noise = 1.0, float(special.ndtri(0.975)), "given sigma"  # the normal quantile
     elif dof > 0:
-        s2, q, noise = rss / dof, float(stats.t.ppf(0.975, dof)), "estimated from residuals"
+        s2, q, noise = rss / dof, float(special.stdtrit(dof, 0.975)), "estimated from residuals"  # Student's t
     else:
         s2, q, noise = None, None, "none"
     Vr, Vn = V[:, :rank], V[:, rank:]

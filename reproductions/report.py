@@ -249,8 +249,26 @@ def ensure_writable(out: Path, where: str = "--out") -> None:
         raise InputError(f"{where} {out}", "the output folder is not a writable directory")
 
 
-def write_reproduction(rep: Reproduction, out: Path, prov: dict[str, Any] | None = None) -> Path:
-    """Write ``out/<experiment>/`` completely in a staging folder, then swap it in."""
+def prepare_drawing() -> None:
+    """Import matplotlib (Agg) once, in the parent, so that forked drawing processes inherit it."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot
+
+
+def draw_figure(job: tuple[FigureSpec, Path]) -> Path:
+    """Render one figure (PNG and PDF) into a folder: a unit of work that processes can share."""
+    spec, folder = job
+    folder.mkdir(parents=True, exist_ok=True)
+    _draw(spec, folder)
+    return folder
+
+
+def write_reproduction(rep: Reproduction, out: Path, prov: dict[str, Any] | None = None,
+                       drawn: Path | None = None) -> Path:
+    """Write ``out/<experiment>/`` completely in a staging folder, then swap it in. ``drawn``: a folder where
+    the figures were already rendered (``draw_figure``); they are moved in instead of drawn again."""
     s = summary(rep, prov if prov is not None else provenance(rep))
     final = out / rep.experiment.id
     try:
@@ -263,7 +281,11 @@ def write_reproduction(rep: Reproduction, out: Path, prov: dict[str, Any] | None
         (stage / "table.csv").write_text(table_csv(s), encoding="utf-8")
         (stage / "table.tex").write_text(table_tex(s), encoding="utf-8")
         for spec in rep.figures:
-            _draw(spec, stage)
+            if drawn is None:
+                _draw(spec, stage)
+            else:
+                for ext in ("png", "pdf"):
+                    os.replace(drawn / f"{spec.name}.{ext}", stage / f"{spec.name}.{ext}")
         old = None
         if final.exists():
             old = out / f".{rep.experiment.id}.old-{os.getpid()}"
