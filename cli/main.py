@@ -92,16 +92,11 @@ def reproduce(
         report.ensure_writable(out)
         jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, len(exps)))
         with err_console.status("") as status:
-            # run all first: a bad data file stops everything before anything is written
-            reps = api.parallel_map(api.run, exps, jobs, lambda d, n: status.update(f"running: {d}/{n} done"))
-            # figures one by one across the processes (an experiment with many figures no longer sets the pace)
+            # run all first: a bad data file stops everything before anything is written; figures are drawn
+            # one by one across the processes as their experiment finishes, into a scratch folder
             scratch = Path(tempfile.mkdtemp(dir=out, prefix=".figures-"))
             try:
-                figs = [(spec, scratch / r.experiment.id) for r in reps for spec in r.figures]
-                figs.sort(key=lambda job: -sum(len(ly.z) > 0 for ly in job[0].layers))  # heatmaps first
-                report.prepare_drawing()
-                api.parallel_map(report.draw_figure, figs, jobs,
-                                 lambda d, n: status.update(f"drawing figures: {d}/{n} done"))
+                reps = api.run_and_draw(exps, jobs, scratch, status.update)
                 folders = [report.write_reproduction(r, out, drawn=scratch / r.experiment.id) for r in reps]
             finally:
                 shutil.rmtree(scratch, ignore_errors=True)

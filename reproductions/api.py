@@ -12,7 +12,7 @@ from .errors import InputError
 from .experiments import KINDS
 from .results import Reproduction
 
-__all__ = ["config_dir", "experiment_ids", "list_experiments", "load", "parallel_map", "run"]
+__all__ = ["config_dir", "experiment_ids", "list_experiments", "load", "parallel_map", "run", "run_and_draw"]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -79,3 +79,48 @@ def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
             if progress:
                 progress(done, len(items))
     return results  # type: ignore[return-value]
+
+
+def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path,
+                 progress: Callable[[str], None] | None = None) -> list[Reproduction]:
+    """Run the experiments and render their figures into ``scratch/<id>/`` on up to ``jobs`` processes, the
+    figures of an experiment starting as soon as it has run (so one long experiment does not idle a core).
+    Results in the input order; exceptions (an ``InputError`` from a data file) propagate."""
+    from .report import draw_figure, prepare_drawing
+
+    prepare_drawing()
+    if jobs <= 1:
+        reps = []
+        for i, e in enumerate(exps, 1):
+            reps.append(run(e))
+            if progress:
+                progress(f"running: {i}/{len(exps)} done")
+        for r in reps:
+            for spec in r.figures:
+                draw_figure((spec, scratch / r.experiment.id))
+        return reps
+    import multiprocessing as mp
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+
+    ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
+    reps: list[Reproduction | None] = [None] * len(exps)
+    with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
+        running = {pool.submit(run, e): i for i, e in enumerate(exps)}
+        drawing = set()
+        n_fig = done_fig = 0
+        while running or drawing:
+            finished, _ = wait([*running, *drawing], return_when=FIRST_COMPLETED)
+            for fut in finished:
+                if fut in running:
+                    i = running.pop(fut)
+                    reps[i] = r = fut.result()
+                    n_fig += len(r.figures)
+                    drawing |= {pool.submit(draw_figure, (spec, scratch / r.experiment.id)) for spec in r.figures}
+                else:
+                    drawing.discard(fut)
+                    fut.result()
+                    done_fig += 1
+            if progress:
+                progress(f"experiments run: {len(exps) - len(running)}/{len(exps)}; figures drawn: {done_fig}/"
+                         f"{n_fig}")
+    return reps  # type: ignore[return-value]

@@ -190,7 +190,9 @@ def _draw(spec: FigureSpec, folder: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6.4, 4.6), layout="constrained")
+    # fixed margins, not a layout solve: the solve took a third of each figure's time (make all: 19 figures)
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    fig.subplots_adjust(left=0.12, right=0.96, bottom=0.11, top=0.84 if spec.caption else 0.88)
     for ly in spec.layers:
         if ly.kind == "line":
             ax.plot(ly.x, ly.y, ly.style, color=ly.color, label=ly.label)
@@ -223,7 +225,6 @@ def _draw(spec: FigureSpec, folder: Path) -> None:
     if any(ly.label and ly.kind != "heatmap" for ly in spec.layers):
         ax.legend(fontsize=8, loc="best")
     fig.savefig(folder / f"{spec.name}.png", dpi=120, metadata={"Software": None})
-    fig.set_layout_engine("none")  # the layout is done: keep it for the PDF instead of solving it again
     fig.savefig(folder / f"{spec.name}.pdf", metadata={"Creator": None, "Producer": None, "CreationDate": None})
     plt.close(fig)
 
