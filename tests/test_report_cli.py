@@ -135,8 +135,13 @@ def test_parallel_and_sequential_runs_write_the_same_files(tmp_path):
                                   "--out", str(tmp_path / jobs)])
         assert res.exit_code == 0, res.output
     for eid in ("marble-drop", "coriolis-cushion"):
-        for name in ("summary.json", "table.md", "table.csv", "table.tex"):
-            assert (tmp_path / "1" / eid / name).read_bytes() == (tmp_path / "2" / eid / name).read_bytes()
+        names = sorted(p.name for p in (tmp_path / "1" / eid).iterdir())
+        assert names == sorted(p.name for p in (tmp_path / "2" / eid).iterdir())
+        assert {"summary.json", "table.md", "table.csv", "table.tex"} < set(names) and any(".png" in n for n in names)
+        for name in names:  # figures too: drawn on a pool, they are the same bytes
+            assert (tmp_path / "1" / eid / name).read_bytes() == (tmp_path / "2" / eid / name).read_bytes(), name
+    for jobs in ("1", "2"):  # no scratch or staging folder left behind
+        assert not [p for p in (tmp_path / jobs).iterdir() if p.name.startswith(".")]
 
 
 def test_input_error_survives_pickling():
