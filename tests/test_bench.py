@@ -32,6 +32,7 @@ def test_bench_reports_every_model_and_path_with_its_figures(report):
             assert (out / f"work-precision-{mod['model']}.{ext}").stat().st_size > 0
     assert "## cushion-impact" in (out / "bench.md").read_text(encoding="utf-8")
     assert len(rep["direct_impact_ode_tolerances"]) == 5
+    assert {r["model"] for r in rep["closed_forms_by_hand"]} == {"direct-impact", "plane-impact", "cloth-slide"}
 
 
 def test_every_path_is_as_accurate_as_it_declares_where_it_declares_itself_exact(report):
@@ -43,6 +44,23 @@ def test_every_path_is_as_accurate_as_it_declares_where_it_declares_itself_exact
                 continue
             tol = max(m.path(r["path"]).accuracy, m.path(r["reference"]).accuracy)
             assert r["where_exact"]["max_error"] <= tol, (mod["model"], r["path"])
+
+
+def test_the_hand_written_formulas_are_the_paths_formulas():
+    """The bench's bare expressions compute what the paths compute (else the slowdown compares unlike things)."""
+    import numpy as np
+
+    from reproductions import bench
+    from reproductions.mechanics import paths
+
+    fields = {"direct-impact": ("V1", "V1p"), "plane-impact": ("chi1", "zeta1", "p1"),
+              "cloth-slide": ("t_roll", "x_roll", "y_roll")}
+    for name, fn in bench.BY_HAND.items():
+        m = registry.MODELS[name]
+        s = m.scene(m.sample(np.random.default_rng(0), 50))
+        res = paths.solve(m, s, "exact")
+        for f, v in zip(fields[name], fn(s), strict=True):
+            np.testing.assert_allclose(v, getattr(res, f), rtol=1e-13, atol=1e-15, err_msg=f"{name}: {f}")
 
 
 def test_bench_refuses_an_unknown_model():
