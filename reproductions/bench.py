@@ -31,9 +31,11 @@ from .mechanics import paths, reference, registry
 
 __all__ = ["FULL", "QUICK", "run", "write"]
 
-FULL = {"n_fast": 100_000, "n_ode": 40, "repeat": 3}
+FULL = {"n_fast": 100_000, "n_ode": 40, "repeat": 3, "solvers": ("RK45", "DOP853", "Radau", "LSODA"),
+        "rtols": (1e-6, 1e-9, 1e-12)}
+QUICK = {"n_fast": 2_000, "n_ode": 3, "repeat": 1, "solvers": ("RK45", "DOP853"), "rtols": (1e-6,)}
+REFERENCE = ("DOP853", 1e-13)  # the reference the closed forms are judged against: the ODE path, tightened
 FASTER = 1.5  # "faster" in the Pareto verdict: by at least this factor (paths of equal cost differ by timing noise)
-QUICK = {"n_fast": 2_000, "n_ode": 4, "repeat": 1}
 
 
 def _best_of(fn: Callable[[], Any], repeat: int) -> float:
@@ -64,12 +66,47 @@ def _stats(err: np.ndarray) -> dict[str, float | int | None]:
             "max_error": float(np.max(ok)) if ok.size else None, "failures": int(bad.sum())}
 
 
+def _tight(m: paths.Model, s: dict[str, np.ndarray]) -> tuple[Any, str]:
+    """The ODE path at the reference tolerance (``REFERENCE``); its declared tolerance if that fails."""
+    p = m.path("ode")
+    solver, rtol = REFERENCE
+    try:
+        assert p.tuned is not None
+        return p.tuned(s, rtol, solver), f"ode ({solver}, rtol {rtol:g})"
+    except Exception:  # a solver failure is reported, not hidden: the label says which ran
+        return paths.solve(m, s, "ode"), f"ode ({p.solver}, rtol {p.rtol:g}: {solver} at {rtol:g} failed)"
+
+
+def ode_grid(m: paths.Model, s: dict[str, np.ndarray], exact: Any, solvers: Sequence[str],
+             rtols: Sequence[float]) -> list[dict]:
+    """The ODE path with each scipy solver at each tolerance: time per scene and error against the exact path
+    (another method). A solver that fails counts every scene as a failure (NaN), not dropped."""
+    p = m.path("ode")
+    n = int(np.size(s[paths.ONES]))
+    out = []
+    for solver in solvers:
+        for rtol in rtols:
+            assert p.tuned is not None
+            t0 = time.perf_counter()
+            try:
+                res = p.tuned(s, rtol, solver)
+                err = m.error(s, res, exact)
+            except Exception:  # counted as failures (NaN), never dropped
+                err = np.full(n, np.nan)
+            t = time.perf_counter() - t0
+            out.append({"solver": solver, "rtol": rtol, "seconds_per_scene": t / max(n, 1)} | _stats(err))
+    return out
+
+
 def model_rows(m: paths.Model, n_fast: int, n_ode: int, repeat: int, seed: int = 5,
-               progress: Callable[[str], None] | None = None) -> dict[str, Any]:
-    """Every path of one model and ``auto``: errors against the reference, times, the floor, the verdict."""
+               progress: Callable[[str], None] | None = None, solvers: Sequence[str] = ("DOP853",),
+               rtols: Sequence[float] = (1e-9,)) -> dict[str, Any]:
+    """Every path of one model and ``auto``: errors against the reference, times, the floor, the verdict; and
+    the ODE path's work-precision grid over scipy's solvers and tolerances."""
     small = m.scene(m.sample(np.random.default_rng(seed), n_ode))
     big = m.scene(m.sample(np.random.default_rng(seed + 1), n_fast))
-    refs = {"ode": paths.solve(m, small, "ode"), "exact": None}
+    tight, tight_label = _tight(m, small)
+    refs = {"ode": tight, "exact": None}
     exact_name = next(p.name for p in m.paths if p.code is paths.PathCode.EXACT)
     refs["exact"] = paths.solve(m, small, exact_name)
     auto_small = paths.solve(m, small, "auto")
@@ -82,7 +119,7 @@ def model_rows(m: paths.Model, n_fast: int, n_ode: int, repeat: int, seed: int =
         sub = _take(m, small, keep)
         ref_name = exact_name if name == "ode" else "ode"
         ref = refs[ref_name]
-        ref_sub = paths.solve(m, sub, ref_name) if not keep.all() else ref
+        ref_sub = (_take_res(ref, keep) if not keep.all() else ref)
         res = paths.solve(m, sub, name)
         err = m.error(sub, res, ref_sub)
         exact = np.ones(err.shape, bool) if p is None else np.asarray(p.exact_when(sub), dtype=bool)
@@ -98,22 +135,26 @@ def model_rows(m: paths.Model, n_fast: int, n_ode: int, repeat: int, seed: int =
         rows.append({
             "path": name, "kind": "auto" if p is None else p.kind.value, "cost": None if p is None else p.cost,
             "declared_accuracy": None if p is None else p.accuracy, "reference": ref_name,
+            "reference_method": tight_label if ref_name == "ode" else f"{exact_name} path",
             "scenes_timed": count, "seconds_per_scene": t / max(count, 1), "scenes_per_second": count / t,
             "predicate_seconds_per_scene": t_pred / max(count, 1),
             "floor_fraction": floor / t, "where_exact": _stats(err[exact]) | {"scenes": int(exact.sum())},
             "all_scenes": _stats(err) | {"scenes": int(err.size)},
         })
-    return {"model": m.name, "section": m.section, "paths": rows, "pareto": _pareto(m, small, auto_small, rows)}
+    if progress:
+        progress(f"{m.name}: ODE solvers × tolerances")
+    grid = ode_grid(m, small, refs["exact"], solvers, rtols)
+    return {"model": m.name, "section": m.section, "paths": rows, "ode_grid": grid,
+            "pareto": _pareto(m, small, auto_small, rows, tight)}
 
 
-def _pareto(m: paths.Model, small: dict[str, np.ndarray], auto: Any, rows: list[dict]) -> list[dict]:
+def _pareto(m: paths.Model, small: dict[str, np.ndarray], auto: Any, rows: list[dict], ref: Any) -> list[dict]:
     """Per scene class (auto's path × regime): is another path declaring itself exact there faster and at least as
     accurate against the reference (faster by ``FASTER`` at least, its predicate's cost included)? Then auto chose
     wrong."""
     speed = {r["path"]: r["seconds_per_scene"] for r in rows}
     check = {r["path"]: r.get("predicate_seconds_per_scene", 0.0) for r in rows}
     out = []
-    ref = paths.solve(m, small, "ode")
     for code in np.unique(auto.path):
         for regime in np.unique(auto.regime[auto.path == code]):
             sel = (auto.path == code) & (auto.regime == regime)
@@ -215,8 +256,11 @@ def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str
     report = {"quick": quick, "config": cfg, "timer": "time.perf_counter, minimum over repeats after a warm-up",
               "machine": {"python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__,
                           "processor": platform.processor() or platform.machine(), "system": platform.system()},
+              "reference": f"the ODE path with {REFERENCE[0]} at rtol {REFERENCE[1]:g} (closed forms and "
+                           "approximations); the exact path (the ODE itself and its solver grid)",
               "models": [model_rows(registry.MODELS[x], cfg["n_fast"], cfg["n_ode"], cfg["repeat"],
-                                    progress=progress) for x in chosen]}
+                                    progress=progress, solvers=cfg["solvers"], rtols=cfg["rtols"])
+                         for x in chosen]}
     if "direct-impact" in chosen:
         report["direct_impact_ode_tolerances"] = direct_impact_curve(cfg["n_ode"], cfg["repeat"])
     report["closed_forms_by_hand"] = by_hand(cfg["n_fast"], cfg["repeat"])
@@ -247,6 +291,11 @@ def write(report: dict, out: Path) -> list[Path]:
             lines.append(f"| {r['path']} | {r['kind']} | {r['reference']} | {r['scenes_per_second']:.3g} | "
                          f"{r['floor_fraction']:.2g} | {_e(w['max_error'])} | {_e(w['median_error'])} | "
                          f"{_e(a['max_error'])} | {a['failures']} |")
+        lines += ["", "ODE path, scipy solvers × tolerances (error against the exact path):", "",
+                  "| solver | rtol | seconds per scene | median error | max error | failures |",
+                  "|---|---|---|---|---|---|"]
+        lines += [f"| {g['solver']} | {g['rtol']:g} | {g['seconds_per_scene']:.3g} | {_e(g['median_error'])} | "
+                  f"{_e(g['max_error'])} | {g['failures']} |" for g in mod["ode_grid"]]
         lines += ["", "Pareto verdict (per scene class that auto serves):", ""]
         lines += [f"- {v['auto_path']}, {v['regime']} ({v['scenes']} scenes): {v['verdict']}" for v in mod["pareto"]]
         lines.append("")
@@ -255,6 +304,12 @@ def write(report: dict, out: Path) -> list[Path]:
             e = r["all_scenes"]["max_error"]
             ax.loglog([max(e if e is not None else np.nan, 1e-17)], [r["seconds_per_scene"]], "o",
                       color=f"C{i % 10}", label=f"{r['path']} ({r['kind']})")
+        for j, solver in enumerate(dict.fromkeys(g["solver"] for g in mod["ode_grid"])):
+            pts = [(g["max_error"], g["seconds_per_scene"]) for g in mod["ode_grid"]
+                   if g["solver"] == solver and g["max_error"] is not None]
+            if pts:
+                ax.loglog([max(e, 1e-17) for e, _ in pts], [t for _, t in pts], "--", marker=".", color=f"C{j + 5}",
+                          label=f"ODE, {solver}, rtol {' … '.join(f'{r:g}' for r in report['config']['rtols'])}")
         ax.set(xlabel=f"max error against the reference ({mod['model']}'s measure)", ylabel="seconds per scene",
                title=f"Work-precision: {mod['model']}")
         ax.grid(alpha=0.3, which="both")

@@ -32,6 +32,9 @@ def test_bench_reports_every_model_and_path_with_its_figures(report):
             assert (out / f"work-precision-{mod['model']}.{ext}").stat().st_size > 0
     assert "## cushion-impact" in (out / "bench.md").read_text(encoding="utf-8")
     assert len(rep["direct_impact_ode_tolerances"]) == 5
+    for mod in rep["models"]:  # every ODE path over scipy solvers and tolerances, against the exact path
+        assert {g["solver"] for g in mod["ode_grid"]} == set(rep["config"]["solvers"])
+        assert all(g["max_error"] is not None and g["max_error"] < 1e-3 for g in mod["ode_grid"]), mod["model"]
     assert {r["model"] for r in rep["closed_forms_by_hand"]} == {"direct-impact", "plane-impact", "cloth-slide"}
 
 

@@ -185,3 +185,17 @@ def test_the_direct_impact_ode_holds_its_accuracy_for_nearly_plastic_impacts(eps
     s = m.scene({"M": [1.0, 3.0, 0.2], "Mp": [1.0, 0.5, 4.0], "V0": 1.0, "V0p": 0.0, "eps": eps, "epsp": eps})
     err = m.error(s, paths.solve(m, s, "exact"), paths.solve(m, s, "ode"))
     assert err.max() <= m.path("ode").accuracy
+
+
+def test_every_ode_path_can_be_rerun_at_another_tolerance_and_solver():
+    for m in registry.MODELS.values():
+        p = m.path("ode")
+        assert p.tuned is not None and p.rtol and p.solver, m.name
+        s = _scenes(m, seed=4, n=2)
+        default = paths.solve(m, s, "ode")
+        again = p.tuned(s, p.rtol, p.solver)  # the declared tolerance and solver are what `run` uses
+        for spec in m.outputs:
+            name = spec.partition("*")[0]
+            np.testing.assert_array_equal(getattr(again, name), getattr(default, name), err_msg=m.name)
+        loose = p.tuned(s, 1e-6, "RK45")
+        assert m.error(s, loose, default).max() < 1e-3, m.name

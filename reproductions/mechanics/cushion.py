@@ -98,7 +98,7 @@ def _resal(phi0: np.ndarray, psi0: np.ndarray, k: np.ndarray, budget: np.ndarray
 
 
 def _ode(chi0: np.ndarray, pR0: np.ndarray, nR0: np.ndarray, k: np.ndarray, j: np.ndarray,
-         pi_end: np.ndarray) -> tuple[np.ndarray, ...]:
+         pi_end: np.ndarray, rtol: float = 1e-11, solver: str = "DOP853") -> tuple[np.ndarray, ...]:
     """Integrate eqs (2) of n°11 in the normal impulse π over [0, (1 + ν)a]: dχ = −jφ/v, d(pR) = kjφ/v,
     d(nR) = −kjψ/v, until the slip v vanishes (an event), after which the contact holds without friction.
     Returns χ1, p1R, n1R; nothing of eqs (5)–(10) is used."""
@@ -125,14 +125,15 @@ def _ode(chi0: np.ndarray, pR0: np.ndarray, nR0: np.ndarray, k: np.ndarray, j: n
             return float((y[0] - y[1]) * e0[0] + y[2] * e0[1])
 
         stops.terminal = True
-        sol = solve_ivp(rhs, (0.0, pi_end[idx]), y0, method="DOP853", rtol=1e-11, atol=1e-14 * scale,
+        sol = solve_ivp(rhs, (0.0, pi_end[idx]), y0, method=solver, rtol=rtol, atol=1e-14 * scale,
                         events=stops)
         out[(slice(None), *idx)] = sol.y[:, -1] if sol.status == 0 else sol.y_events[0][0]
     return out[0], out[1], out[2]
 
 
 def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLike, *, R: ArrayLike,
-                   k: ArrayLike, j: ArrayLike, eps: ArrayLike, method: str = "exact") -> CushionImpact:
+                   k: ArrayLike, j: ArrayLike, eps: ArrayLike, method: str = "exact", rtol: float = 1e-11,
+                   solver: str = "DOP853") -> CushionImpact:
     """The cushion impact of §IV by the chosen path (module docstring): ``exact`` (₂F₁ and bisection, every
     scene), ``elementary`` (only where ``elementary_applies``), ``resal``, ``resal-corrected``, ``ode``.
     ``registry`` chooses per scene for ``auto``."""
@@ -155,11 +156,11 @@ def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLi
         f1, s1 = _elementary(f0, s0, k, budget)
         label = "elementary closed form (the slip keeps its direction)"
     elif method == "ode":
-        chi1, pR1, nR1 = _ode(chi0, p0 * R, n0 * R, k, j, (1 + nu) * a)
+        chi1, pR1, nR1 = _ode(chi0, p0 * R, n0 * R, k, j, (1 + nu) * a, rtol, solver)
         f1, s1 = np.abs(chi1 - pR1) * (np.sign(chi1 - pR1) == sphi), np.abs(nR1) * (np.sign(nR1) == spsi)
         stopped = np.hypot(f1, s1) <= 1e-10 * np.maximum(f0, s0)  # the integration's slip-stop event fired
         f1, s1 = np.where(stopped, 0.0, f1), np.where(stopped, 0.0, s1)
-        label = "ODE in the normal impulse (DOP853, slip-stop event), eqs (2) of n°11"
+        label = f"ODE in the normal impulse ({solver}, rtol {rtol:g}, slip-stop event), eqs (2) of n°11"
     else:
         e = (1 + k) / 2 if method == "resal" else 2 / (1 + k)
         f1, s1 = _resal(f0, s0, k, budget, e)

@@ -130,6 +130,11 @@ class Path:
     doc: str
     handles: Callable[[Scene], np.ndarray] = always
     handles_text: str = "every scene"
+    # ODE paths: the same integration at another tolerance and scipy solver (work-precision runs), and the
+    # tolerance and solver that ``run`` uses
+    tuned: Callable[[Scene, float, str], Any] | None = None
+    rtol: float | None = None
+    solver: str | None = None
 
     @property
     def name(self) -> str:

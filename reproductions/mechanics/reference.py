@@ -33,7 +33,8 @@ class ReferenceImpact:
     method: str
 
 
-def _one(M: float, Mp: float, V0: float, V0p: float, e: float, rtol: float, atol: float) -> tuple[float, float, int]:
+def _one(M: float, Mp: float, V0: float, V0p: float, e: float, rtol: float, atol: float, solver: str = "DOP853"
+         ) -> tuple[float, float, int]:
     if V0 <= V0p:  # no approach, no impact
         return V0, V0p, 0
     mu = M if math.isinf(Mp) else M * Mp / (M + Mp)  # M′ = ∞: an immovable mass
@@ -50,7 +51,7 @@ def _one(M: float, Mp: float, V0: float, V0p: float, e: float, rtol: float, atol
     max_compression.terminal = True
     max_compression.direction = -1
     sol = solve_ivp(compress, (0.0, 10.0), [0.0, 0.0, V0, V0p], rtol=rtol, atol=atol * scale,
-                    events=max_compression, method="DOP853")
+                    events=max_compression, method=solver)
     y = sol.y_events[0][0]
     nfev = sol.nfev
     if e == 0.0:  # nothing is given back: both move on with the common velocity u of §I n°3
@@ -71,23 +72,23 @@ def _one(M: float, Mp: float, V0: float, V0p: float, e: float, rtol: float, atol
     # the restitution lasts a quarter period of the stiffer spring, (π/2)·e: a step longer than that can step over
     # the separation and the tension beyond it, and the event is missed (seen for nearly plastic impacts, e ≈ 5e-4)
     sol2 = solve_ivp(restitute, (0.0, 10.0 * e + 1.0), y, rtol=rtol, atol=atol * scale, events=separation,
-                     method="DOP853", max_step=e * math.pi / 16)
+                     method=solver, max_step=e * math.pi / 16)
     z = sol2.y_events[0][0]
     return z[2], z[3], nfev + sol2.nfev
 
 
 def integrate_direct_impact(
     M: ArrayLike, Mp: ArrayLike, V0: ArrayLike, V0p: ArrayLike, e: ArrayLike, *, rtol: float = 1e-10,
-    atol: float = 1e-12,
+    atol: float = 1e-12, solver: str = "DOP853",
 ) -> ReferenceImpact:
     """Integrate the two-phase contact (§I n°2) for each scene of the broadcast inputs; e in [0, 1]."""
     arrays = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (M, Mp, V0, V0p, e)))
     shape = arrays[0].shape
     flat = [a.ravel() for a in arrays]
-    out = np.array([_one(*(float(a[i]) for a in flat), rtol, atol) for i in range(flat[0].size)]).reshape(
+    out = np.array([_one(*(float(a[i]) for a in flat), rtol, atol, solver) for i in range(flat[0].size)]).reshape(
         (*shape, 3))
     return ReferenceImpact(V1=out[..., 0], V1p=out[..., 1], nfev=out[..., 2].astype(int),
-                           method="ODE, two-phase hysteretic contact (DOP853)")
+                           method=f"ODE, two-phase hysteretic contact ({solver})")
 
 
 @dataclass(frozen=True)
@@ -101,8 +102,8 @@ class ReferencePlane:
     method: str
 
 
-def _plane_one(chi0: float, zeta0: float, p0: float, R: float, k: float, f: float, nu: float, rtol: float
-               ) -> tuple[float, float, float, float]:
+def _plane_one(chi0: float, zeta0: float, p0: float, R: float, k: float, f: float, nu: float, rtol: float,
+               solver: str = "DOP853") -> tuple[float, float, float, float]:
     end = (1.0 + nu) * abs(zeta0)  # total normal impulse per unit mass: ζ goes from ζ0 to −νζ0
     v0 = chi0 - p0 * R
     if v0 == 0.0 or f == 0.0 or end == 0.0:
@@ -117,7 +118,7 @@ def _plane_one(chi0: float, zeta0: float, p0: float, R: float, k: float, f: floa
 
     stops.terminal = True
     sol = solve_ivp(slide, (0.0, end), [chi0, zeta0, p0 * R], events=stops, rtol=rtol, atol=rtol * abs(zeta0),
-                    method="DOP853")
+                    method=solver)
     y = sol.y[:, -1] if sol.status == 0 else sol.y_events[0][0]
     stopped = float("nan") if sol.status == 0 else float(sol.t_events[0][0] / end)
     if sol.status == 1:  # the slip has stopped: rolling needs no friction, only ζ still changes
@@ -126,18 +127,19 @@ def _plane_one(chi0: float, zeta0: float, p0: float, R: float, k: float, f: floa
 
 
 def integrate_plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, *, R: ArrayLike, k: ArrayLike,
-                           f: ArrayLike, nu: ArrayLike, rtol: float = 1e-11) -> ReferencePlane:
+                           f: ArrayLike, nu: ArrayLike, rtol: float = 1e-11, solver: str = "DOP853"
+                           ) -> ReferencePlane:
     """Integrate §III's impulse equations (4) scene by scene, stopping the slip when v_x reaches zero."""
     arrays = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (chi0, zeta0, p0, R, k, f, nu)))
     flat = [a.ravel() for a in arrays]
-    out = np.array([_plane_one(*(float(a[i]) for a in flat), rtol) for i in range(flat[0].size)])
+    out = np.array([_plane_one(*(float(a[i]) for a in flat), rtol, solver) for i in range(flat[0].size)])
     out = out.reshape((*arrays[0].shape, 4))
     return ReferencePlane(out[..., 0], out[..., 1], out[..., 2], out[..., 3],
                           "ODE in the normal impulse, slip stopped by an event (DOP853)")
 
 
-def integrate_flight(chi: ArrayLike, zeta: ArrayLike, g: ArrayLike, *, rtol: float = 1e-11
-                     ) -> tuple[np.ndarray, np.ndarray]:
+def integrate_flight(chi: ArrayLike, zeta: ArrayLike, g: ArrayLike, *, rtol: float = 1e-11,
+                     solver: str = "DOP853") -> tuple[np.ndarray, np.ndarray]:
     """Range and duration of the flight of the centre under gravity until it is back at its height (§III n°9)."""
     arrays = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (chi, zeta, g)))
     flat = [a.ravel() for a in arrays]
@@ -152,14 +154,14 @@ def integrate_flight(chi: ArrayLike, zeta: ArrayLike, g: ArrayLike, *, rtol: flo
         lands.terminal = True
         lands.direction = -1
         sol = solve_ivp(rhs, (0.0, 10.0 * z / gg + 1.0), [0.0, 0.0, c, z], events=lands, rtol=rtol,
-                        atol=rtol * 1e-3, method="DOP853", first_step=1e-6 * z / gg)
+                        atol=rtol * 1e-3, method=solver, first_step=1e-6 * z / gg)
         res.append((sol.y_events[0][0][0], sol.t_events[0][0]))
     out = np.array(res).reshape((*arrays[0].shape, 2))
     return out[..., 0], out[..., 1]
 
 
 def integrate_cloth(vx: float, vy: float, wx: float, wy: float, R: float, k: float, f: float, g: float,
-                    t_end: float, *, rtol: float = 1e-11) -> tuple[object, float]:
+                    t_end: float, *, rtol: float = 1e-11, solver: str = "DOP853") -> tuple[object, float]:
     """Integrate §II's eqs (2) (friction opposite the current slip) until the slip vanishes, then roll.
 
     Returns a callable ``state(t) -> (x, y, vx, vy, wx, wy)`` valid on [0, t_end] and the time at which the
@@ -185,7 +187,7 @@ def integrate_cloth(vx: float, vy: float, wx: float, wy: float, R: float, k: flo
         t1, sol = 0.0, None
     else:
         sol = solve_ivp(rhs, (0.0, t_end), y0, events=stops, rtol=rtol, atol=1e-14, dense_output=True,
-                        method="DOP853")
+                        method=solver)
         t1 = float(sol.t_events[0][0]) if sol.t_events[0].size else float("nan")
     end = sol.sol(t1) if sol is not None and t1 == t1 else np.array(y0)
 
@@ -202,7 +204,8 @@ def integrate_cloth(vx: float, vy: float, wx: float, wy: float, R: float, k: flo
 
 
 def integrate_cue_impulse(i: float, a: float, b: float, c: float, R: float, k: float, f: float, M: float,
-                          P_end: float, *, moment_a_term: bool = True, rtol: float = 1e-10) -> np.ndarray:
+                          P_end: float, *, moment_a_term: bool = True, rtol: float = 1e-10,
+                          solver: str = "LSODA") -> np.ndarray:
     """Integrate §VII's eqs (3) in the cue impulse P from a ball at rest, with the cloth friction
     f sin i dP opposite the *current* slip (regularised near zero slip, so a held contact is found, not
     assumed). Returns (χ, η, n, p, q) at P_end. Nothing of eqs (5)–(7) is used."""
@@ -219,5 +222,5 @@ def integrate_cue_impulse(i: float, a: float, b: float, c: float, R: float, k: f
         return np.array([(ci - jx) / M, -jy / M, (tau[0] - R * jy) / inertia, (tau[1] + R * jx) / inertia,
                          tau[2] / inertia])
 
-    sol = solve_ivp(rhs, (0.0, P_end), np.zeros(5), method="LSODA", rtol=rtol, atol=1e-12 * scale)
+    sol = solve_ivp(rhs, (0.0, P_end), np.zeros(5), method=solver, rtol=rtol, atol=1e-12 * scale)
     return sol.y[:, -1]

@@ -48,11 +48,12 @@ def _direct_exact(s: Scene) -> impact.DirectImpact:
     return impact.direct_impact(s["M"], s["Mp"], s["V0"], s["V0p"], eps=s["eps"], epsp=s["epsp"])
 
 
-def _direct_ode(s: Scene) -> impact.DirectImpact:
+def _direct_ode(s: Scene, rtol: float = 1e-10, solver: str = "DOP853") -> impact.DirectImpact:
     """The two-phase hysteretic contact of §I n°2 with Newton's e equivalent to (ε, ε′) (the one map between
     them, ``impact.newton_restitution``); nothing of eqs (7)-(9)."""
     e = impact.newton_restitution(s["M"], s["Mp"], s["eps"], s["epsp"])
-    r = reference.integrate_direct_impact(s["M"], s["Mp"], s["V0"], s["V0p"], e)
+    r = reference.integrate_direct_impact(s["M"], s["Mp"], s["V0"], s["V0p"], e, rtol=rtol, atol=rtol * 1e-2,
+                                          solver=solver)
     M, Mp, V0, V0p = s["M"], s["Mp"], s["V0"], s["V0p"]
     lost = M * (V0**2 - r.V1**2) + Mp * (V0p**2 - r.V1p**2)
     shape = np.shape(r.V1)
@@ -64,10 +65,10 @@ def _wall_exact(s: Scene) -> impact.WallImpact:
     return impact.wall_impact(s["V0"], eps=s["eps"])
 
 
-def _wall_ode(s: Scene) -> impact.WallImpact:
+def _wall_ode(s: Scene, rtol: float = 1e-10, solver: str = "DOP853") -> impact.WallImpact:
     """The contact of §I n°2 against an immovable mass (M′ = ∞), with e = (1 − ε)/(1 + ε)."""
     e = impact.velocity_ratio_from_eps(s["eps"])
-    r = reference.integrate_direct_impact(1.0, math.inf, s["V0"], 0.0, e)
+    r = reference.integrate_direct_impact(1.0, math.inf, s["V0"], 0.0, e, rtol=rtol, atol=rtol * 1e-2, solver=solver)
     shape = np.shape(r.V1)
     return impact.WallImpact(r.V1, -r.V1 / s["V0"], "ode", codes(shape, PathCode.ODE),
                              codes(shape, Regime.FRICTIONLESS), r.method)
@@ -90,10 +91,10 @@ def _plane(s: Scene, method: str) -> plane.PlaneImpact:
     return plane.plane_impact(s["chi0"], s["zeta0"], s["p0"], R=s["R"], k=s["k"], f=s["f"], nu=s["nu"], method=method)
 
 
-def _plane_ode(chi0: Any, zeta0: Any, p0: Any, *, R: Any, k: Any, f: Any, nu: Any, method: str = "ode"
-               ) -> plane.PlaneImpact:
+def _plane_ode(chi0: Any, zeta0: Any, p0: Any, *, R: Any, k: Any, f: Any, nu: Any, method: str = "ode",
+               rtol: float = 1e-11, solver: str = "DOP853") -> plane.PlaneImpact:
     """§III's impulse equations (4) integrated with a slip-stop event (``reference.integrate_plane_impact``)."""
-    r = reference.integrate_plane_impact(chi0, zeta0, p0, R=R, k=k, f=f, nu=nu)
+    r = reference.integrate_plane_impact(chi0, zeta0, p0, R=R, k=k, f=f, nu=nu, rtol=rtol, solver=solver)
     v0 = np.broadcast_to(np.asarray(chi0, dtype=float) - np.asarray(p0, dtype=float) * R, np.shape(r.chi1))
     regime = np.where(v0 == 0, Regime.NO_SLIP, np.where(np.isnan(r.slip_stopped_at), Regime.SLIDE, Regime.GRIP))
     return plane.PlaneImpact(r.chi1, r.zeta1, r.p1, "ode", codes(np.shape(r.chi1), PathCode.ODE),
@@ -126,7 +127,7 @@ def _ricochet_run(s: Scene, method: str) -> plane.Ricochet:
                           method=method)
 
 
-def _ricochet_ode(s: Scene) -> plane.Ricochet:
+def _ricochet_ode(s: Scene, rtol: float = 1e-11, solver: str = "DOP853") -> plane.Ricochet:
     """Each impact integrated in the normal impulse, each flight integrated in time (``reference``)."""
     n = int(s["n"])
     a0, al, p, R, k, f, nu, g = (np.asarray(s[x], dtype=float) for x in ("a0", "alpha0", "p0", "R", "k", "f",
@@ -134,9 +135,9 @@ def _ricochet_ode(s: Scene) -> plane.Ricochet:
     chi, zeta = a0 * np.cos(al), -a0 * np.sin(al)
     cols: dict[str, list[np.ndarray]] = {"chi": [], "zeta": [], "p": [], "regime": [], "P": [], "T": []}
     for _ in range(n):
-        out = _plane_ode(chi, zeta, p, R=R, k=k, f=f, nu=nu)
+        out = _plane_ode(chi, zeta, p, R=R, k=k, f=f, nu=nu, rtol=rtol, solver=solver)
         chi, zeta, p = out.chi1, out.zeta1, out.p1
-        P, T = reference.integrate_flight(chi, zeta, g)
+        P, T = reference.integrate_flight(chi, zeta, g, rtol=rtol, solver=solver)
         for key, v in (("chi", chi), ("zeta", zeta), ("p", p), ("regime", out.regime), ("P", P), ("T", T)):
             cols[key].append(np.asarray(v))
         zeta = -zeta
@@ -169,7 +170,7 @@ def _cloth_exact(s: Scene) -> cloth.ClothMotion:
     return cloth.slide(s["vx"], s["vy"], s["wx"], s["wy"], R=s["R"], k=s["k"], f=s["f"], g=s["g"])
 
 
-def _cloth_ode(s: Scene) -> cloth.ClothMotion:
+def _cloth_ode(s: Scene, rtol: float = 1e-11, solver: str = "DOP853") -> cloth.ClothMotion:
     """§II's eqs (2) integrated in time with the friction opposite the current slip, until the slip vanishes
     (an event on the slip projected on its initial direction); nothing of eqs (3)-(5)."""
     keys = ("vx", "vy", "wx", "wy", "R", "k", "f", "g")
@@ -182,7 +183,8 @@ def _cloth_ode(s: Scene) -> cloth.ClothMotion:
         if u0 == 0.0:
             out[idx] = (0.0, 0.0, 0.0, vx, vy, 0.0)
             continue
-        state, t1 = reference.integrate_cloth(vx, vy, wx, wy, R, k, f, g, 1.01 * u0 / (f * g))  # |du/dt| ≥ fg
+        state, t1 = reference.integrate_cloth(vx, vy, wx, wy, R, k, f, g, 1.01 * u0 / (f * g),  # |du/dt| ≥ fg
+                                              rtol=rtol, solver=solver)
         y = state(t1)
         out[idx] = (t1, y[0], y[1], y[2], y[3], u0)
     return cloth.ClothMotion(out[..., 0], out[..., 1], out[..., 2], out[..., 3], out[..., 4], out[..., 5], "ode",
@@ -210,9 +212,9 @@ def _cloth_vis_viva(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray]:
 
 # ---- §IV: the cushion ----------------------------------------------------------------------------------------
 def _cushion(method: str):
-    def run(s: Scene) -> cushion.CushionImpact:
+    def run(s: Scene, rtol: float = 1e-11, solver: str = "DOP853") -> cushion.CushionImpact:
         return cushion.cushion_impact(s["chi0"], s["zeta0"], s["p0"], s["n0"], R=s["R"], k=s["k"], j=s["j"],
-                                      eps=s["eps"], method=method)
+                                      eps=s["eps"], method=method, rtol=rtol, solver=solver)
     return run
 
 
@@ -249,9 +251,10 @@ def _flip(s: Scene, *names: str) -> dict[str, np.ndarray]:
 
 # ---- §V-§VI: two balls ---------------------------------------------------------------------------------------
 def _spheres(method: str, on_cloth: bool):
-    def run(s: Scene) -> spheres.SpheresImpact:
+    def run(s: Scene, rtol: float = 1e-11, solver: str = "DOP853") -> spheres.SpheresImpact:
         return spheres.two_spheres(s["M"], s["Mp"], s["R"], s["Rp"], s["k"], s["kp"], s["v"], s["w"], s["vp"],
-                                   s["wp"], f=s["f"], eps=s["eps"], epsp=s["epsp"], on_cloth=on_cloth, method=method)
+                                   s["wp"], f=s["f"], eps=s["eps"], epsp=s["epsp"], on_cloth=on_cloth, method=method,
+                                   rtol=rtol, solver=solver)
     return run
 
 
@@ -337,7 +340,8 @@ def _spheres_model(on_cloth: bool) -> Model:
              _cloth_resal_exact if on_cloth else _free_resal_exact, 1e-12, 1,
              "§VI eqs (11)-(15), first order in f" if on_cloth else "§V eqs (5), (8), sliding assumed"),
         Path(PathCode.ODE, Kind.ODE, _spheres("ode", on_cloth), always, 1e-8, 1000,
-             "slip integrated in the normal impulse (DOP853), normal impulse from law (6)"),
+             "slip integrated in the normal impulse (DOP853), normal impulse from law (6)",
+             tuned=_spheres("ode", on_cloth), rtol=1e-11, solver="DOP853"),
     )
 
     def admissible(s: Scene) -> np.ndarray:
@@ -364,7 +368,7 @@ def _cue(method: str):
     return run
 
 
-def _cue_ode(s: Scene) -> cue.CueStroke:
+def _cue_ode(s: Scene, rtol: float = 1e-10, solver: str = "LSODA") -> cue.CueStroke:
     """§VII's eqs (3) integrated in the cue impulse P (``reference.integrate_cue_impulse``): once to P = 1 for the
     ball's response per unit impulse (its vis viva per P², and the velocity of the contact point along the cue
     axis), which give ω and ω1 by law (6) as in eqs (9)-(10); then again to P = M′ω1. Nothing of eqs (5)-(7)."""
@@ -375,7 +379,7 @@ def _cue_ode(s: Scene) -> cue.CueStroke:
     for idx in np.ndindex(shape):
         M, Mp, V0p, i, b, c, R, k, f, eps, epsp = (float(a[idx]) for a in arrays)
         a = -math.sqrt(max(R * R - b * b - c * c, 0.0))
-        u = reference.integrate_cue_impulse(i, a, b, c, R, k, f, M, 1.0)  # per unit impulse
+        u = reference.integrate_cue_impulse(i, a, b, c, R, k, f, M, 1.0, rtol=rtol, solver=solver)  # per unit P
         v3, w = np.array([u[0], u[1], 0.0]), np.array([u[2], u[3], u[4]])
         Q = M * (u[0] ** 2 + u[1] ** 2) + M * R * R / k * float(w @ w)
         A = 1.0 + Mp * Q
@@ -383,7 +387,7 @@ def _cue_ode(s: Scene) -> cue.CueStroke:
         dKd = float((v3 + np.cross(w, [a, b, c])) @ d)
         omega = V0p / (1.0 + Mp * dKd)
         omega1 = 2 * A * omega / (A + eps * (A - 1) + epsp)
-        y = reference.integrate_cue_impulse(i, a, b, c, R, k, f, M, Mp * omega1)
+        y = reference.integrate_cue_impulse(i, a, b, c, R, k, f, M, Mp * omega1, rtol=rtol, solver=solver)
         slip = math.hypot(y[0] - y[3] * R, y[1] + y[2] * R)
         out[idx] = (*y, V0p - omega1, omega1, omega, A, -(a * math.cos(i) - c * math.sin(i)) / R,
                     slip / max(Mp * omega1 / M, 1e-300))
@@ -433,7 +437,8 @@ def _build() -> dict[str, Model]:
         ), (), (
             Path(PathCode.EXACT, Kind.CLOSED_FORM, _direct_exact, always, 1e-13, 1, "closed form, eq. (7)"),
             Path(PathCode.ODE, Kind.ODE, _direct_ode, always, 1e-8, 1000,
-                 "two-phase hysteretic contact integrated in time (DOP853)"),
+                 "two-phase hysteretic contact integrated in time (DOP853)", tuned=_direct_ode, rtol=1e-10,
+                 solver="DOP853"),
         ), ("V1", "V1p"), lambda s: np.asarray(s["V0"]) > np.asarray(s["V0p"]),
             "the bodies must approach (V0 > V′0): separating bodies do not collide",
             sample=_direct_sample, scale=lambda s: np.abs(np.asarray(s["V0"]) - np.asarray(s["V0p"])),
@@ -445,7 +450,7 @@ def _build() -> dict[str, Model]:
         ), (), (
             Path(PathCode.EXACT, Kind.CLOSED_FORM, _wall_exact, always, 1e-13, 1, "closed form, eq. (9)"),
             Path(PathCode.ODE, Kind.ODE, _wall_ode, always, 1e-8, 1000,
-                 "two-phase contact against an immovable mass (DOP853)"),
+                 "two-phase contact against an immovable mass (DOP853)", tuned=_wall_ode, rtol=1e-10, solver="DOP853"),
         ), ("V1",), lambda s: np.asarray(s["V0"]) > 0, "the ball must approach the mass (V0 > 0)",
             sample=lambda rng, n: {"V0": rng.uniform(0.1, 5.0, n), "eps": rng.uniform(0.0, 1.0, n)},
             scale=lambda s: np.abs(np.asarray(s["V0"])),
@@ -463,7 +468,10 @@ def _build() -> dict[str, Model]:
             Path(PathCode.ODE, Kind.ODE, lambda s: _plane_ode(s["chi0"], s["zeta0"], s["p0"], R=s["R"], k=s["k"],
                                                               f=s["f"],
                                                              nu=s["nu"]), always, 1e-9, 1000,
-                 "impulse equations (4) with a slip-stop event (DOP853)"),
+                 "impulse equations (4) with a slip-stop event (DOP853)",
+                 tuned=lambda s, rtol, solver: _plane_ode(s["chi0"], s["zeta0"], s["p0"], R=s["R"], k=s["k"],
+                                                          f=s["f"], nu=s["nu"], rtol=rtol, solver=solver),
+                 rtol=1e-11, solver="DOP853"),
         ), ("chi1", "zeta1", "p1*R"), lambda s: np.asarray(s["zeta0"]) < 0,
             "the sphere must approach the plane (ζ0 < 0)", sample=_plane_sample,
             scale=lambda s: np.hypot(s["chi0"], s["zeta0"]) + np.abs(s["p0"] * s["R"]), vis_viva=_plane_vis_viva,
@@ -482,7 +490,7 @@ def _build() -> dict[str, Model]:
             Path(PathCode.RESAL, Kind.AS_PRINTED, lambda s: _ricochet_run(s, "resal"), _ricochet_resal_exact,
                  1e-12, 1, "impacts by eqs (6) (sliding assumed), parabolic flights"),
             Path(PathCode.ODE, Kind.ODE, _ricochet_ode, always, 1e-8, 1000,
-                 "impacts and flights integrated (DOP853)"),
+                 "impacts and flights integrated (DOP853)", tuned=_ricochet_ode, rtol=1e-11, solver="DOP853"),
         ), ("ranges", "times", "chi", "zeta", "p*R"), lambda s: np.ones(np.shape(s["a0"]), dtype=bool),
             "every launch (a0 > 0, 0 < α0 < π/2)", static=("n",), sample=_ricochet_sample,
             scale=lambda s: np.asarray(s["a0"]) * (1 + np.asarray(s["a0"]) / np.asarray(s["g"]))
@@ -494,7 +502,8 @@ def _build() -> dict[str, Model]:
             Param("f", "1", "friction on the cloth", None, lo=0.0, lo_open=True), _G,
         ), (), (
             Path(PathCode.EXACT, Kind.CLOSED_FORM, _cloth_exact, always, 1e-13, 1, "Euler's parabola, eqs (3)-(4)"),
-            Path(PathCode.ODE, Kind.ODE, _cloth_ode, always, 1e-8, 1000, "eqs (2) integrated in time (DOP853)"),
+            Path(PathCode.ODE, Kind.ODE, _cloth_ode, always, 1e-8, 1000, "eqs (2) integrated in time (DOP853)",
+                 tuned=_cloth_ode, rtol=1e-11, solver="DOP853"),
         ), ("t_roll*g", "x_roll*g", "y_roll*g", "vx_roll", "vy_roll"), lambda s: np.ones(np.shape(s["vx"]), bool),
             "every initial state", sample=_cloth_sample,
             scale=lambda s: 1 + np.hypot(s["vx"], s["vy"]) + np.hypot(s["wx"], s["wy"]) * s["R"],
@@ -519,7 +528,8 @@ def _build() -> dict[str, Model]:
             Path(PathCode.RESAL_CORRECTED, Kind.CORRECTED, _cushion("resal-corrected"), _cushion_resal_exact,
                  1e-12, 1, "eq. (11) with the derived exponent 2/(1 + k)"),
             Path(PathCode.ODE, Kind.ODE, _cushion("ode"), always, 1e-8, 1000,
-                 "eqs (2) integrated in the normal impulse (DOP853)"),
+                 "eqs (2) integrated in the normal impulse (DOP853)", tuned=_cushion("ode"), rtol=1e-11,
+                 solver="DOP853"),
         ), ("chi1", "zeta1", "p1*R", "n1*R"), lambda s: np.asarray(s["zeta0"]) < 0,
             "the ball must approach the cushion (ζ0 < 0)", sample=_cushion_sample,
             scale=lambda s: np.hypot(s["chi0"], s["zeta0"]) + np.hypot(s["p0"], s["n0"]) * s["R"],
@@ -545,7 +555,8 @@ def _build() -> dict[str, Model]:
                  lambda s: (np.asarray(s["b"]) == 0) & (np.asarray(s["c"]) == 0) & (np.asarray(s["i"]) == 0),
                  1e-13, 1, "eqs (2)-(12) as printed"),
             Path(PathCode.ODE, Kind.ODE, _cue_ode, always, 1e-8, 1000,
-                 "eqs (3) integrated in the cue impulse (LSODA, regularised friction)"),
+                 "eqs (3) integrated in the cue impulse (LSODA, regularised friction)", tuned=_cue_ode, rtol=1e-10,
+                 solver="LSODA"),
         ), ("chi1", "eta1", "n1*R", "p1*R", "q1*R", "V1p"), _cue_admissible,
             "the contact point must lie on the ball (b² + c² < R²) where the cue can reach it (cos φ > 0)",
             sample=_cue_sample, scale=lambda s: np.asarray(s["V0p"]), vis_viva=_cue_vis_viva,

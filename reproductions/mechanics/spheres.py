@@ -84,7 +84,8 @@ def _apply(M: np.ndarray, Mp: np.ndarray, R: np.ndarray, Rp: np.ndarray, k: np.n
 
 def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: ArrayLike, kp: ArrayLike,
                 v: ArrayLike, w: ArrayLike, vp: ArrayLike, wp: ArrayLike, *, f: ArrayLike, eps: ArrayLike,
-                epsp: ArrayLike, on_cloth: bool = False, method: str = "exact") -> SpheresImpact:
+                epsp: ArrayLike, on_cloth: bool = False, method: str = "exact", rtol: float = 1e-11,
+                solver: str = "DOP853") -> SpheresImpact:
     """The impact of §V (free balls) or §VI (``on_cloth``) by the chosen path (module docstring); v, w, vp,
     wp have the vector on the last axis; the other inputs broadcast over the batch. M must approach M′."""
     if method not in METHODS:
@@ -136,7 +137,7 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
             omega1, converged, final = _cloth_normal_impulse(s0, s0n, approach, omega, M, cy, cz, f, S_eps)
         xi = M * omega1
         if method == "ode":
-            s1 = _ode_slip(s0, M * cy, M * cz, f * omega1)
+            s1 = _ode_slip(s0, M * cy, M * cz, f * omega1, rtol, solver)
             label = "ODE of the slip in the normal impulse (DOP853), with the exact normal impulse"
         else:
             if final is None:
@@ -209,7 +210,8 @@ def _cloth_normal_impulse(s0: np.ndarray, s0n: np.ndarray, approach: np.ndarray,
     return om.reshape(shape), done.reshape(shape), (dec, xs)
 
 
-def _ode_slip(s0: np.ndarray, alpha: np.ndarray, beta: np.ndarray, tau_end: np.ndarray) -> np.ndarray:
+def _ode_slip(s0: np.ndarray, alpha: np.ndarray, beta: np.ndarray, tau_end: np.ndarray, rtol: float = 1e-11,
+              solver: str = "DOP853") -> np.ndarray:
     """Integrate ds = −(α s_y, β s_z)/|s| dτ over [0, τ_end] with a stop event, scene by scene."""
     from scipy.integrate import solve_ivp
 
@@ -229,7 +231,7 @@ def _ode_slip(s0: np.ndarray, alpha: np.ndarray, beta: np.ndarray, tau_end: np.n
             return float(y @ e0)  # the slip along its initial direction: crosses zero cleanly when it stops
 
         stops.terminal = True
-        sol = solve_ivp(rhs, (0.0, tau_end[idx]), y0, method="DOP853", rtol=1e-11, atol=1e-14 * scale,
+        sol = solve_ivp(rhs, (0.0, tau_end[idx]), y0, method=solver, rtol=rtol, atol=1e-14 * scale,
                         events=stops)
         out[idx] = sol.y[:, -1] if sol.status == 0 else 0.0
     return out
