@@ -199,3 +199,16 @@ def test_every_ode_path_can_be_rerun_at_another_tolerance_and_solver():
             np.testing.assert_array_equal(getattr(again, name), getattr(default, name), err_msg=m.name)
         loose = p.tuned(s, 1e-6, "RK45")
         assert m.error(s, loose, default).max() < 1e-3, m.name
+
+
+def test_an_ode_that_would_run_on_stops_with_a_clear_error(monkeypatch):
+    """Every integration is bounded (LSODA at rtol 1e-12 chatters on the cushion's discontinuous friction and ran
+    for minutes in the benchmark): past the budget it raises, and the benchmark counts a failure."""
+    from reproductions.mechanics import budget
+
+    m = registry.MODELS["cushion-impact"]
+    s = m.scene({"chi0": 1.2, "zeta0": -0.8, "p0": 20.0, "n0": -30.0, "j": 0.4, "eps": 0.3})
+    assert m.error(s, paths.solve(m, s, "ode"), paths.solve(m, s, "exact")).max() < 1e-8
+    monkeypatch.setattr(budget, "MAX_RHS", 20)
+    with pytest.raises(budget.ODEBudgetExceeded, match="more than 20 right-hand-side evaluations"):
+        paths.solve(m, s, "ode")

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .budget import bounded, check
 from .impact import nu_from_eps
 from .paths import PathCode, Regime, codes
 from .slip import slip_decay
@@ -125,8 +126,9 @@ def _ode(chi0: np.ndarray, pR0: np.ndarray, nR0: np.ndarray, k: np.ndarray, j: n
             return float((y[0] - y[1]) * e0[0] + y[2] * e0[1])
 
         stops.terminal = True
-        sol = solve_ivp(rhs, (0.0, pi_end[idx]), y0, method=solver, rtol=rtol, atol=1e-14 * scale,
+        sol = solve_ivp(bounded(rhs), (0.0, pi_end[idx]), y0, method=solver, rtol=rtol, atol=1e-14 * scale,
                         events=stops)
+        check(sol)
         out[(slice(None), *idx)] = sol.y[:, -1] if sol.status == 0 else sol.y_events[0][0]
     return out[0], out[1], out[2]
 

@@ -19,6 +19,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 
+from .budget import bounded, check
+
 __all__ = ["ReferenceImpact", "ReferencePlane", "integrate_cloth", "integrate_cue_impulse",
            "integrate_direct_impact", "integrate_flight", "integrate_plane_impact"]
 
@@ -50,8 +52,8 @@ def _one(M: float, Mp: float, V0: float, V0p: float, e: float, rtol: float, atol
 
     max_compression.terminal = True
     max_compression.direction = -1
-    sol = solve_ivp(compress, (0.0, 10.0), [0.0, 0.0, V0, V0p], rtol=rtol, atol=atol * scale,
-                    events=max_compression, method=solver)
+    sol = check(solve_ivp(bounded(compress), (0.0, 10.0), [0.0, 0.0, V0, V0p], rtol=rtol, atol=atol * scale,
+                    events=max_compression, method=solver))
     y = sol.y_events[0][0]
     nfev = sol.nfev
     if e == 0.0:  # nothing is given back: both move on with the common velocity u of §I n°3
@@ -71,8 +73,8 @@ def _one(M: float, Mp: float, V0: float, V0p: float, e: float, rtol: float, atol
     separation.direction = -1
     # the restitution lasts a quarter period of the stiffer spring, (π/2)·e: a step longer than that can step over
     # the separation and the tension beyond it, and the event is missed (seen for nearly plastic impacts, e ≈ 5e-4)
-    sol2 = solve_ivp(restitute, (0.0, 10.0 * e + 1.0), y, rtol=rtol, atol=atol * scale, events=separation,
-                     method=solver, max_step=e * math.pi / 16)
+    sol2 = check(solve_ivp(bounded(restitute), (0.0, 10.0 * e + 1.0), y, rtol=rtol, atol=atol * scale,
+                           events=separation, method=solver, max_step=e * math.pi / 16))
     z = sol2.y_events[0][0]
     return z[2], z[3], nfev + sol2.nfev
 
@@ -117,8 +119,8 @@ def _plane_one(chi0: float, zeta0: float, p0: float, R: float, k: float, f: floa
         return s * (y[0] - y[2])
 
     stops.terminal = True
-    sol = solve_ivp(slide, (0.0, end), [chi0, zeta0, p0 * R], events=stops, rtol=rtol, atol=rtol * abs(zeta0),
-                    method=solver)
+    sol = check(solve_ivp(bounded(slide), (0.0, end), [chi0, zeta0, p0 * R], events=stops, rtol=rtol,
+                          atol=rtol * abs(zeta0), method=solver))
     y = sol.y[:, -1] if sol.status == 0 else sol.y_events[0][0]
     stopped = float("nan") if sol.status == 0 else float(sol.t_events[0][0] / end)
     if sol.status == 1:  # the slip has stopped: rolling needs no friction, only ζ still changes
@@ -153,8 +155,8 @@ def integrate_flight(chi: ArrayLike, zeta: ArrayLike, g: ArrayLike, *, rtol: flo
 
         lands.terminal = True
         lands.direction = -1
-        sol = solve_ivp(rhs, (0.0, 10.0 * z / gg + 1.0), [0.0, 0.0, c, z], events=lands, rtol=rtol,
-                        atol=rtol * 1e-3, method=solver, first_step=1e-6 * z / gg)
+        sol = check(solve_ivp(bounded(rhs), (0.0, 10.0 * z / gg + 1.0), [0.0, 0.0, c, z], events=lands, rtol=rtol,
+                        atol=rtol * 1e-3, method=solver, first_step=1e-6 * z / gg))
         res.append((sol.y_events[0][0][0], sol.t_events[0][0]))
     out = np.array(res).reshape((*arrays[0].shape, 2))
     return out[..., 0], out[..., 1]
@@ -186,8 +188,8 @@ def integrate_cloth(vx: float, vy: float, wx: float, wy: float, R: float, k: flo
     if u0 == 0.0:
         t1, sol = 0.0, None
     else:
-        sol = solve_ivp(rhs, (0.0, t_end), y0, events=stops, rtol=rtol, atol=1e-14, dense_output=True,
-                        method=solver)
+        sol = check(solve_ivp(bounded(rhs), (0.0, t_end), y0, events=stops, rtol=rtol, atol=1e-14, dense_output=True,
+                        method=solver))
         t1 = float(sol.t_events[0][0]) if sol.t_events[0].size else float("nan")
     end = sol.sol(t1) if sol is not None and t1 == t1 else np.array(y0)
 
@@ -222,5 +224,5 @@ def integrate_cue_impulse(i: float, a: float, b: float, c: float, R: float, k: f
         return np.array([(ci - jx) / M, -jy / M, (tau[0] - R * jy) / inertia, (tau[1] + R * jx) / inertia,
                          tau[2] / inertia])
 
-    sol = solve_ivp(rhs, (0.0, P_end), np.zeros(5), method=solver, rtol=rtol, atol=1e-12 * scale)
+    sol = check(solve_ivp(bounded(rhs), (0.0, P_end), np.zeros(5), method=solver, rtol=rtol, atol=1e-12 * scale))
     return sol.y[:, -1]

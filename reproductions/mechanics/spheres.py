@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .budget import bounded, check
 from .paths import PathCode, Regime, codes
 from .slip import SlipDecay, slip_decay
 
@@ -231,7 +232,7 @@ def _ode_slip(s0: np.ndarray, alpha: np.ndarray, beta: np.ndarray, tau_end: np.n
             return float(y @ e0)  # the slip along its initial direction: crosses zero cleanly when it stops
 
         stops.terminal = True
-        sol = solve_ivp(rhs, (0.0, tau_end[idx]), y0, method=solver, rtol=rtol, atol=1e-14 * scale,
+        sol = solve_ivp(bounded(rhs), (0.0, tau_end[idx]), y0, method=solver, rtol=rtol, atol=1e-14 * scale,
                         events=stops)
-        out[idx] = sol.y[:, -1] if sol.status == 0 else 0.0
+        out[idx] = check(sol).y[:, -1] if sol.status == 0 else 0.0  # status 1: the slip-stop event
     return out
