@@ -39,8 +39,9 @@ REFERENCE = ("DOP853", 1e-13)  # the reference the closed forms are judged again
 FASTER = 1.5  # "faster" in the Pareto verdict: by at least this factor (paths of equal cost differ by timing noise)
 
 
-def _best_of(fn: Callable[[], Any], repeat: int) -> float:
-    fn()  # warm-up
+def _best_of(fn: Callable[[], Any], repeat: int, warm: bool = True) -> float:
+    if warm:
+        fn()
     best = float("inf")
     for _ in range(repeat):
         t0 = time.perf_counter()
@@ -129,10 +130,12 @@ def model_rows(m: paths.Model, n_fast: int, n_ode: int, repeat: int, seed: int =
         if p is not None:
             batch = _take(m, batch, np.asarray(p.handles(batch), dtype=bool))
         count = int(np.size(batch[paths.ONES]))
-        t = _best_of(lambda b=batch, n=name: paths.solve(m, b, n), 1 if ode_cost else repeat) if count else np.nan
+        res_batch = paths.solve(m, batch, name) if count else None  # the warm-up, and the outputs for the floor
+        t = _best_of(lambda b=batch, n=name: paths.solve(m, b, n), 1 if ode_cost else repeat,
+                     warm=False) if count else np.nan
         # what it costs auto to know that this path is exact for a scene (its declared predicate)
         t_pred = _best_of(lambda b=batch, q=p: q.exact_when(b), repeat) if count and p is not None else 0.0
-        floor = _floor(m, batch, paths.solve(m, batch, name), repeat) if count else np.nan
+        floor = _floor(m, batch, res_batch, repeat) if count else np.nan
         rows.append({
             "path": name, "kind": "auto" if p is None else p.kind.value, "cost": None if p is None else p.cost,
             "declared_accuracy": None if p is None else p.accuracy, "reference": ref_name,

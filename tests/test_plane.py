@@ -37,7 +37,7 @@ def test_resal_eqs_6_are_exact_only_while_the_contact_slides():
     args = _scenes(300, 2)
     exact = plane.plane_impact(*args[:3], **_kw(args))
     resal = plane.plane_impact(*args[:3], **_kw(args), method="resal")
-    s = (exact.regime == Regime.SLIDE)
+    s = exact.regime == Regime.SLIDE
     np.testing.assert_allclose(resal.chi1[s], exact.chi1[s], atol=1e-12)
     assert np.all(np.abs(resal.chi1[~s] - exact.chi1[~s]) > 0)
 

@@ -85,7 +85,7 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     live = np.hypot(*s1.T) > 1e-3 * np.hypot(*s0.T)  # directions of slips that have not (nearly) stopped
     turn = np.abs(np.arctan2(s0[:, 0] * s1[:, 1] - s0[:, 1] * s1[:, 0], (s0 * s1).sum(-1)))  # exact near 0
     out["free_direction"] = float(np.max(turn[live]))
-    slide = ~(ex.regime == Regime.GRIP)
+    slide = ex.regime != Regime.GRIP
     unit = s0 / np.hypot(*s0.T)[:, None]
     # (5): η0 − η1 = fω1 along the slip, with Oy along it; likewise q (R q0 − R q1 = f k ω1 …)
     dv_t = (v - ex.v1)[:, 1:]
@@ -98,7 +98,7 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     omega = (v[:, 0] - vp[:, 0]) / (1 + mu)
     num = 2 * omega * (1 + f**2 * (1 + k) + mu * (1 + f**2 * (1 + kp)))
     den_printed = (1 + f**2 * (1 + k)) * (1 + eps) + mu * (1 + f**2 * (1 + k)) * (1 + epsp)
-    sl = ~(exk.regime == Regime.GRIP)
+    sl = exk.regime != Regime.GRIP
     out["eq8_as_printed"] = float(np.max(np.abs(num / den_printed - exk.omega1)[sl] / omega[sl]))
     # (9) as printed: ω1 = 2{…}/{…}, without the factor (χ0 − χ0′)/(1 + M/M′)
     out["eq9_as_printed"] = float(np.max(np.abs(num / omega / den_printed - exk.omega1)[sl] / omega[sl]))

@@ -62,7 +62,7 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     exact = cushion.cushion_impact(chi0, zeta0, p0, n0, R=R, k=k, j=j, eps=p.eps, method="exact")
     a = -zeta0
     phi0, phi1 = chi0 - p0 * R, ode.chi1 - ode.p1 * R
-    slide = ~(ode.regime == Regime.GRIP) & (np.abs(phi1) > 1e-9 * a)
+    slide = (ode.regime != Regime.GRIP) & (np.abs(phi1) > 1e-9 * a)
     out = {
         "eq4": np.max(np.abs(ode.chi1 - (chi0 - (R / k) * (ode.p1 - p0))) / a),
         "eq5": np.max(np.abs(phi1 - (chi0 + p0 * R / k - (1 + k) / k * ode.p1 * R)) / a),

@@ -22,8 +22,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ONES", "Kind", "Model", "Param", "Path", "PathCode", "PathError", "Regime", "always", "codes", "never",
-           "solve"]
+__all__ = ["ONES", "Kind", "Model", "Param", "Path", "PathCode", "PathError", "Regime", "always", "codes", "solve"]
 
 Scene = Mapping[str, np.ndarray]
 
@@ -71,10 +70,6 @@ ONES = "ones"  # every scene dict carries ONES: True per scene, so that predicat
 
 def always(scene: Scene) -> np.ndarray:
     return np.array(scene[ONES], dtype=bool)
-
-
-def never(scene: Scene) -> np.ndarray:
-    return ~np.array(scene[ONES], dtype=bool)
 
 
 @dataclass(frozen=True)
@@ -246,7 +241,6 @@ def _merge(parts: list[tuple[np.ndarray, Any]], n: int, batch: tuple[int, ...]) 
     """One result from the per-path results of disjoint subsets of the scenes (array fields scattered back)."""
     first = parts[0][1]
     values: dict[str, Any] = {}
-    used = []
     for f in dataclasses.fields(first):
         v0 = getattr(first, f.name)
         if isinstance(v0, np.ndarray) and v0.ndim >= 1:
@@ -254,12 +248,8 @@ def _merge(parts: list[tuple[np.ndarray, Any]], n: int, batch: tuple[int, ...]) 
             for sel, res in parts:
                 out[sel] = getattr(res, f.name)
             values[f.name] = out.reshape((*batch, *v0.shape[1:]))
-        elif isinstance(v0, str):
-            values[f.name] = v0
         else:
             values[f.name] = v0
-    for sel, res in parts:
-        used.append(f"{int(sel.sum())} by {res.label}")
     values["method"] = "auto"
-    values["label"] = "auto: " + "; ".join(used)
+    values["label"] = "auto: " + "; ".join(f"{int(sel.sum())} by {res.label}" for sel, res in parts)
     return type(first)(**values)

@@ -16,7 +16,6 @@ import numpy as np
 
 from . import cloth, cue, cushion, impact, plane, reference, spheres
 from .paths import (
-    ONES,
     Kind,
     Model,
     Param,
@@ -25,7 +24,6 @@ from .paths import (
     Regime,
     always,
     codes,
-    never,
 )
 
 __all__ = ["MODELS", "model"]
@@ -576,5 +574,3 @@ def model(name: str) -> Model:
         raise KeyError(f"unknown model '{name}' (expected one of: {', '.join(MODELS)})")
     return MODELS[name]
 
-
-_ = (ONES, never)  # re-exported names kept in use for readers of this module
