@@ -7,6 +7,7 @@ Bad input of any kind ends with one message on stderr and exit status 2.
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import tempfile
@@ -28,9 +29,39 @@ err_console = Console(stderr=True)
 VERDICT_STYLE = {"reproduced": "green", "differs": "bold red", "not-checkable": "yellow"}
 
 
+MAX_RADIUS = 1.0  # m: `resal fit ricochet --R`; a radius in millimetres (30.5) is refused, not read as 30 m
+
+
+def _json(obj: Any) -> str:
+    """Strict JSON (no NaN or Infinity, which are not JSON): a non-finite number is a bug, so it raises."""
+    return json.dumps(obj, indent=2, ensure_ascii=False, allow_nan=False)
+
+
 def _fail(err: InputError) -> NoReturn:
     err_console.print(Text("error: ", style="bold red") + Text(str(err)))
     raise typer.Exit(2)
+
+
+MAX_JOBS = 256  # `reproduce --jobs`: a pool forks all its workers at once, so a typo must not fork thousands
+
+
+def _out_folder(text: str) -> Path:
+    """``--out``: a folder; an empty text (which would mean the current folder) is refused."""
+    if not text.strip():
+        _fail(InputError(f"--out '{text}'", "expected a folder (an empty name would write into the current "
+                                            "folder; say --out . if that is what you mean)"))
+    return Path(text)
+
+
+def _jobs(text: str) -> int:
+    """``--jobs``: a whole number of processes in [1, MAX_JOBS]."""
+    try:
+        n = int(text)
+    except ValueError:
+        n = None
+    if n is None or not 1 <= n <= MAX_JOBS:
+        _fail(InputError(f"--jobs {text}", f"expected a number of processes, a whole number in [1, {MAX_JOBS}]"))
+    return n
 
 
 @app.command("list")
@@ -71,8 +102,9 @@ def reproduce(
     experiments: Annotated[list[str] | None, typer.Argument(help="experiment ids or YAML paths")] = None,
     all_: Annotated[bool, typer.Option("--all", help="every experiment in configs/")] = False,
     as_json: Annotated[bool, typer.Option("--json", help="print summary.json on stdout instead of tables")] = False,
-    out: Annotated[Path, typer.Option("--out", help="results folder")] = Path("results"),
-    jobs: Annotated[int | None, typer.Option(help="processes (default: one per core)")] = None,
+    out: Annotated[Path, typer.Option("--out", help="results folder", parser=_out_folder)] = Path("results"),
+    jobs: Annotated[int | None, typer.Option(help=f"processes, 1 to {MAX_JOBS} (default: one per core)",
+                                             parser=_jobs)] = None,
 ) -> None:
     """Run experiments, compare every printed value, write tables and figures into OUT/<experiment>/."""
     from reproductions import api, report
@@ -109,7 +141,7 @@ def reproduce(
         _fail(InputError(f"--out {out}", f"cannot write results ({err.strerror or err})"))
     if as_json:
         obj = summaries[0] if len(summaries) == 1 else summaries
-        typer.echo(json.dumps(obj, indent=2, ensure_ascii=False))
+        typer.echo(_json(obj))
         return
     for s in summaries:
         _render(s)
@@ -133,7 +165,7 @@ def simulate(
     if list_:
         info = list_models()
         if as_json:
-            typer.echo(json.dumps(info, indent=2, ensure_ascii=False))
+            typer.echo(_json(info))
             return
         t = Table(title=f"models ({info['units']})")
         for c in ("model", "what", "parameters (default; * must be given)", "paths (cost)"):
@@ -153,7 +185,7 @@ def simulate(
     except InputError as err:
         _fail(err)
     if as_json:
-        typer.echo(json.dumps(result, indent=2, ensure_ascii=False))
+        typer.echo(_json(result))
         return
     t = Table(title=f"{result['model']}: {result['label']} (path {result['path_name']}, "
                     f"regime {result['regime_name']})")
@@ -201,16 +233,17 @@ def fit(
     from reproductions.userfit import fit_csv
 
     try:
-        for name, value in (("--M", M), ("--Mp", Mp), ("--R", R)):
-            if not value > 0:
-                raise InputError(f"{name} {value:g}", "expected a positive number")
-        if sigma is not None and not sigma > 0:
-            raise InputError(f"--sigma {sigma:g}", "expected a positive number")
+        for name, value, what in (("--M", M, "a mass in kg"), ("--Mp", Mp, "a mass in kg"),
+                                  ("--sigma", sigma, "a standard deviation")):
+            if value is not None and not (math.isfinite(value) and value > 0):
+                raise InputError(f"{name} {value:g}", f"expected a positive number ({what}, finite)")
+        if not (math.isfinite(R) and 0 < R <= MAX_RADIUS):
+            raise InputError(f"--R {R:g}", f"expected a ball radius in metres, in (0, {MAX_RADIUS:g}]")
         result = fit_csv(kind, csv_file, M=M, Mp=Mp, R=R, sigma=sigma)
     except InputError as err:
         _fail(err)
     if as_json:
-        typer.echo(json.dumps(result, indent=2, ensure_ascii=False))
+        typer.echo(_json(result))
         return
     out_console.print(_fits_table(result["fits"], f"{kind}: {result['file']} ({result['n']} rows)"))
     for i in result["identifiability"]:
@@ -222,8 +255,8 @@ def fit(
 def bench(
     models: Annotated[list[str] | None, typer.Argument(help="models (default: all; see simulate --list)")] = None,
     quick: Annotated[bool, typer.Option("--quick", help="small batches: a check that ends in seconds")] = False,
-    out: Annotated[Path, typer.Option("--out", help="folder for bench.json, bench.md, figures")] = Path(
-        "results/bench"),
+    out: Annotated[Path, typer.Option("--out", help="folder for bench.json, bench.md, figures",
+                                      parser=_out_folder)] = Path("results/bench"),
 ) -> None:
     """Work-precision benchmark of every model × path: time per scene against error, and auto's Pareto verdict."""
     from rich.progress import Progress
@@ -268,8 +301,11 @@ def _read_summary(path: Path) -> dict[str, Any]:
         raise InputError(str(f), f"cannot read ({exc.strerror})") from None
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise InputError(str(f), f"not a summary.json file ({exc})") from None
-    if not isinstance(obj, dict) or not {"rows", "fits", "modern", "figures"} <= obj.keys():
-        raise InputError(str(f), "not a summary.json file (expected rows, fits, modern, figures)")
+    from reproductions.golden import summary_problem
+
+    problem = summary_problem(obj)
+    if problem:
+        raise InputError(str(f), f"not a summary.json file: {problem}")
     return obj
 
 
@@ -283,6 +319,8 @@ def diff(
     from reproductions import golden
 
     try:
+        if rtol is not None and not (math.isfinite(rtol) and 0 <= rtol < 1):
+            raise InputError(f"--rtol {rtol:g}", "expected a relative tolerance in [0, 1)")
         ref, new = _read_summary(a), _read_summary(b)
     except InputError as err:
         _fail(err)

@@ -158,13 +158,22 @@ class Node:
             raise self.fail(f"'{self._name(key)}' must be {what} {rng}, got {raw}", n)
         return value
 
-    def integer(self, key: str, what: str = "an integer", *, default: int | None = None, lo: int = 0) -> int:
+    def integer(self, key: str, what: str = "an integer", *, default: int | None = None, lo: int = 0,
+                hi: int | None = None) -> int:
+        """A whole number in [lo, hi]; ``1e3`` (which PyYAML reads as a text) is accepted as 1000. Every count that
+        sizes work (trials, imprints, repetitions) has an ``hi``, so that a typo cannot make a run hang."""
         if default is not None and not self.has(key):
             return default
         n = self._scalar(key, what)
         value = _construct(n, self.file, self._name(key))
-        if isinstance(value, bool) or not isinstance(value, int) or value < lo:
-            raise self.fail(f"'{self._name(key)}' must be {what} ≥ {lo}, got '{n.value}'", n)
+        rng = f"≥ {lo}" if hi is None else f"in [{lo}, {hi}]"
+        if not isinstance(value, int) or isinstance(value, bool):
+            parsed = parse_number(value) if isinstance(value, str | float) else None
+            if parsed is None or not math.isfinite(parsed[0]) or parsed[0] != int(parsed[0]):
+                raise self.fail(f"'{self._name(key)}' must be {what}, a whole number {rng}, got '{n.value}'", n)
+            value = int(parsed[0])
+        if value < lo or (hi is not None and value > hi):
+            raise self.fail(f"'{self._name(key)}' must be {what} {rng}, got {n.value}", n)
         return value
 
     def boolean(self, key: str, default: bool) -> bool:

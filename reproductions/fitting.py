@@ -100,6 +100,8 @@ class Estimate:
     ci95: tuple[float | None, float | None]
     identifiable: bool
     family_range: tuple[float, float] | None
+    at_bound: str | None = None  # "lower" or "upper": the fit ended on that bound of the parameter
+    clipped: bool = False  # the 95 % interval was cut at a bound (it is then no longer symmetric)
 
 
 @dataclass(frozen=True)
@@ -147,6 +149,29 @@ def _interval(value: float, se: float | None, q: float | None) -> tuple[float | 
     if se is None or q is None:
         return (None, None)
     return (value - q * se, value + q * se)
+
+
+BOUND_RTOL = 1e-6  # an estimate this close to a bound (relative to the box width, or to 1) ended on it
+
+
+def _at_bound(v: float, lo: float, hi: float) -> str | None:
+    """'lower' or 'upper' when the estimate sits on that bound (the optimiser stops about 1e-10 inside)."""
+    width = hi - lo if math.isfinite(hi - lo) else 1.0
+    if math.isfinite(lo) and v - lo <= BOUND_RTOL * width:
+        return "lower"
+    if math.isfinite(hi) and hi - v <= BOUND_RTOL * width:
+        return "upper"
+    return None
+
+
+def _clip(ci: tuple[float | None, float | None], lo: float, hi: float) -> tuple[tuple[float | None, float | None],
+                                                                              bool]:
+    """The interval cut to the admissible range [lo, hi], and whether it was cut."""
+    a, b = ci
+    if a is None or b is None:
+        return ci, False
+    ca, cb = max(a, lo), min(b, hi)
+    return (ca, cb), (ca, cb) != (a, b)
 
 
 def _segment(x: np.ndarray, n: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[float, float]:
@@ -345,7 +370,9 @@ def _analyse(pb: _Problem, residuals: Callable[[np.ndarray], np.ndarray], x: np.
             identifiable = bool(np.all(np.abs(Vn[i, :]) < 1e-6)) if Vn.size else True
         if identifiable:
             se = None if cov is None else float(np.sqrt(max(cov[i, i], 0.0)))
-            estimates.append(Estimate(name, float(x[i]), se, _interval(float(x[i]), se, q), True, None))
+            ci, clipped = _clip(_interval(float(x[i]), se, q), float(pb.lo[i]), float(pb.hi[i]))
+            estimates.append(Estimate(name, float(x[i]), se, ci, True, None,
+                                      _at_bound(float(x[i]), float(pb.lo[i]), float(pb.hi[i])), clipped))
         else:
             rng = family.ranges[i] if family is not None and family.holds else None
             estimates.append(Estimate(name, None, None, (None, None), False, rng))

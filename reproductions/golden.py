@@ -17,7 +17,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
-__all__ = ["GOLDEN_DIR", "TOLERANCES", "check_all", "compare", "flatten", "golden_object"]
+__all__ = ["GOLDEN_DIR", "SUMMARY_FIELDS", "TOLERANCES", "check_all", "compare", "flatten", "golden_object",
+           "summary_problem"]
 
 GOLDEN_DIR = Path(__file__).resolve().parent.parent / "tests" / "golden"
 
@@ -80,6 +81,42 @@ def flatten(s: dict[str, Any]) -> dict[str, tuple[Any, float, float, str]]:
         out[f"modern.{m['symbol']}.resal"] = _entry(m["resal"], "closed-form")
     out["figures"] = _entry(s["figures"], "code")
     return out
+
+
+# what ``flatten`` reads of each entry of a summary's lists (``resal diff`` checks a file against it first)
+SUMMARY_FIELDS: dict[str, tuple[str, ...]] = {
+    "rows": ("id", "printed", "computed", "rel_diff", "tolerance", "verdict"),
+    "fits": ("id", "value", "stderr", "ci95", "family_range", "identifiable"),
+    "identifiability": ("id", "rank", "null_directions", "parameters", "point", "family_of_solutions"),
+    "tables": ("name", "rows"),
+    "modern": ("symbol", "resal"),
+}
+
+
+def summary_problem(s: Any) -> str | None:
+    """None if ``s`` has everything ``flatten`` reads, else what is missing, naming the entry."""
+    if not isinstance(s, dict):
+        return "expected a JSON object"
+    missing = [k for k in ("experiment", "rows", "fits", "modern", "figures") if k not in s]
+    if missing:
+        return f"expected the keys {', '.join(missing)} of a summary"
+    for key, fields in SUMMARY_FIELDS.items():
+        entries = s.get(key, [])
+        if not isinstance(entries, list):
+            return f"'{key}' must be a list"
+        for i, e in enumerate(entries):
+            if not isinstance(e, dict):
+                return f"{key}[{i}] must be an object with {', '.join(fields)}"
+            lacks = [f for f in fields if f not in e]
+            if lacks:
+                name = f" (id '{e['id']}')" if isinstance(e.get("id"), str) else ""
+                return f"{key}[{i}]{name} lacks {', '.join(lacks)} (expected {', '.join(fields)})"
+    fam = [i for i, e in enumerate(s.get("identifiability", [])) if e["family_of_solutions"] is not None and not (
+        isinstance(e["family_of_solutions"], dict) and {"kind", "along", "holds", "ends", "ranges"}
+        <= e["family_of_solutions"].keys())]
+    if fam:
+        return f"identifiability[{fam[0]}].family_of_solutions must be null or have kind, along, holds, ends, ranges"
+    return None
 
 
 def golden_object(s: dict[str, Any]) -> dict[str, Any]:

@@ -94,6 +94,13 @@ def _plain(v: Any) -> Any:
     return a.tolist() if a.ndim else (bool(a) if a.dtype == bool else float(a) if a.dtype.kind == "f" else int(a))
 
 
+def _finite(v: Any) -> bool:
+    """Every number in an output (lists nested) is finite; codes and flags pass."""
+    if isinstance(v, list):
+        return all(_finite(x) for x in v)
+    return not isinstance(v, float) or math.isfinite(v)
+
+
 def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[str, Any]:
     """Run one scene; ``assignments`` are ``name=value`` strings. Raises ``InputError`` on bad input."""
     if model not in registry.MODELS:
@@ -110,12 +117,17 @@ def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[s
     if missing:
         raise InputError("--set", f"{model} needs {', '.join(missing)} (no default: give your measured "
                                   f"value, e.g. --set {missing[0]}=…)")
+    given = " ".join(f"--set {a}" for a in assignments) or f"model '{model}'"
     try:
-        scene = m.scene(values)
-        res = paths.solve(m, scene, method)
+        with np.errstate(all="ignore"):  # an overflow is reported below, as one message, not as a warning
+            scene = m.scene(values)
+            bad_in = [n for n, v in scene.items() if not np.all(np.isfinite(np.asarray(v, dtype=float)))]
+            if bad_in:
+                raise InputError(given, f"the scene's input {bad_in[0]} is not finite (it overflows): expected "
+                                        "values of a physical size")
+            res = paths.solve(m, scene, method)
     except paths.PathError as err:
-        where = f"--method {method}" if method != "auto" and "handles only" in str(err) else \
-            " ".join(f"--set {a}" for a in assignments) or f"model '{model}'"
+        where = f"--method {method}" if method != "auto" and "handles only" in str(err) else given
         raise InputError(where, str(err)) from None
     inputs = {p.name: _plain(_cli(p, float(scene[p.name])) if p.name not in m.vectors else scene[p.name])
               for p in m.params}
@@ -125,6 +137,10 @@ def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[s
         if name in skip:
             continue
         outputs[name] = _plain(getattr(res, name))
+    bad_out = [n for n, v in outputs.items() if not _finite(v)]
+    if bad_out:
+        raise InputError(given, f"the scene's outputs overflow ({', '.join(bad_out)} not finite): expected inputs "
+                                "whose products and squares stay within floating point (|x| ≲ 1e150 in SI units)")
     code, regime = int(np.ravel(res.path)[0]), int(np.ravel(res.regime)[0])
     return {"model": model, "method": res.method, "path": code,
             "path_name": paths.PathCode(code).name.lower().replace("_", "-"),

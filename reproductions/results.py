@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .config import Experiment
-from .fitting import Family, FitResult
+from .fitting import Estimate, Family, FitResult
 
 __all__ = [
     "Computed", "FigureSpec", "FitRow", "Layer", "Reproduction", "Row", "TableSpec", "family_report", "fit_rows",
@@ -60,6 +60,7 @@ class FitRow:
     identifiable: bool
     note: str
     family_range: tuple[float, float] | None = None
+    at_bound: str | None = None  # code: "lower" or "upper" when the fit ended on that bound of the parameter
 
 
 @dataclass(frozen=True)
@@ -134,7 +135,8 @@ def fit_rows(fit: FitResult, key: str, labels: dict[str, str], method: str, note
         if est.identifiable:
             n = note if fit.noise != "none" else (note + " " if note else "") + \
                 "no residual degree of freedom and no sigma: no uncertainty claimed"
-            out.append(FitRow(f"{key}.{est.name}", name, est.value, est.stderr, est.ci95, method, True, n.strip()))
+            out.append(FitRow(f"{key}.{est.name}", name, est.value, est.stderr, est.ci95, method, True,
+                              "; ".join(t for t in (_bound_note(est, name), n.strip()) if t), at_bound=est.at_bound))
         else:
             rng, fam = est.family_range, fit.family
             if rng is not None and fam is not None:
@@ -153,6 +155,17 @@ def fit_rows(fit: FitResult, key: str, labels: dict[str, str], method: str, note
         out.append(FitRow(f"{key}.combination{i}", terms, comb.value, comb.stderr, comb.ci95, method, True,
                           ("identified combination; " + note).strip("; ")))
     return out
+
+
+def _bound_note(est: Estimate, label: str) -> str:
+    """What a table says of an estimate that ended on a bound, or whose interval was cut at one."""
+    parts = []
+    if est.at_bound is not None:
+        parts.append(f"WARNING: the fit ended on the {est.at_bound} bound of {label}: the data fit best at or beyond "
+                     "the edge of its admissible range (check the data, their signs and units)")
+    if est.clipped:
+        parts.append("95 % interval cut at the admissible range (the normal approximation does not hold at a bound)")
+    return "; ".join(parts)
 
 
 def identifiability_report(fit: FitResult, key: str, labels: dict[str, str], data: str) -> dict:

@@ -11,17 +11,34 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["MIN_IMPRINTS", "check_imprints", "read_imprints", "read_series"]
+__all__ = ["MAX_IMPRINTS", "MIN_IMPRINTS", "Series", "check_imprints", "check_pendulum_trials", "read_imprints",
+           "read_rebounds", "read_series"]
 
 MIN_IMPRINTS = 5  # a ricochet series: fewer imprints cannot tell ν from the launch
+MAX_IMPRINTS = 100  # Rozé counted up to 12; after 100 impacts at ν ≤ 0.8 a flight is 1e-10 of the first
+MAX_SPAN = 20.0  # m: the longest ricochet series taken as metres (a ball thrown onto a slab, not a field)
+MAX_SPEED = 50.0  # m/s: the fastest launch the ricochet fits admit (fitting.PHYSICAL_BOUNDS)
+MOMENTUM_SIGMAS = 5.0  # a pendulum trial is refused when it breaks momentum by more than 5 σ of the imbalance
+MOMENTUM_SLACK = 0.10  # without σ: by more than 10 % of M V0 (or V1 exceeds V1′ by more than 10 % of V0)
+
+
+class Series(dict):
+    """Columns of a CSV series (name → array), with ``where`` (the file) and ``lines`` (each row's line)."""
+
+    where: str
+    lines: list[int]
+
+    def at(self, row: int) -> str:
+        return f"{self.where}:{self.lines[row]}"
 
 
 def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = (), min_rows: int = 1,
-                positive: Sequence[str] = ()) -> dict[str, np.ndarray]:
-    """A measurement series from a CSV file with a header; every bad row is reported as file:line."""
+                positive: Sequence[str] = ()) -> Series:
+    """A measurement series from a CSV file with a header; every bad row is reported as file:line. Lines that
+    are empty or start with ``#`` are skipped (before the header too); a UTF-8 byte-order mark is accepted."""
     where = str(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except OSError as exc:
         raise InputError(where, f"cannot read the series file ({exc.strerror})") from None
     except UnicodeDecodeError:
@@ -56,25 +73,100 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
             data[h].append(v)
     if len(numbered) - 1 < min_rows:
         raise InputError(where, f"expected at least {min_rows} data row(s), got {len(numbered) - 1}")
-    return {h: np.asarray(v) for h, v in data.items()}
+    out = Series({h: np.asarray(v) for h, v in data.items()})
+    out.where, out.lines = where, [n for n, _ in numbered[1:]]
+    return out
 
 
-def check_imprints(x: np.ndarray, where: str) -> None:
-    """Imprint positions of a ricochet series: at least ``MIN_IMPRINTS``, strictly increasing."""
+def read_rebounds(path: Path, heights: bool) -> Series:
+    """Rebounds on an immovable mass (§I eq. (9)): columns ``V0,V1`` (signed velocities, m/s: V0 > 0 towards the
+    mass, V1 ≤ 0 after the impact, away from it) or ``h0,h1`` (drop and rebound heights, m). A rebound faster or
+    higher than the impact would need ε < 0; a positive V1 is a speed given without its sign. Both are refused."""
+    cols = ("h0", "h1") if heights else ("V0", "V1")
+    s = read_series(path, cols, min_rows=2, positive=(cols[0],))
+    a, b = s[cols[0]], s[cols[1]]
+    for i in range(a.size):
+        if heights and b[i] < 0:
+            raise InputError(s.at(i), f"column 'h1': expected a rebound height ≥ 0 (m, measured up from the "
+                                      f"surface), got {b[i]:g}")
+        if heights and b[i] > a[i]:
+            raise InputError(s.at(i), f"the rebound h1 = {b[i]:g} m is higher than the drop h0 = {a[i]:g} m: "
+                                      "expected h1 ≤ h0 (a ball cannot gain energy in the impact; ε ≥ 0)")
+        if not heights and b[i] > 0:
+            raise InputError(s.at(i), f"column 'V1': expected the signed velocity after the impact, ≤ 0 (opposite "
+                                      f"V0 = {a[i]:g}), got {b[i]:g}; the file must give signed velocities, so "
+                                      "write a rebound speed u as V1 = -u")
+        if not heights and -b[i] > a[i]:
+            raise InputError(s.at(i), f"the ball leaves at |V1| = {-b[i]:g} m/s, faster than it arrived "
+                                      f"(V0 = {a[i]:g}): expected |V1| ≤ V0 (ε ≥ 0)")
+    return s
+
+
+def check_pendulum_trials(s: Series, M: np.ndarray, Mp: np.ndarray, sigma: float | None) -> None:
+    """Two-pendulum trials (§I eqs (8), struck body at rest) that no (ε, ε′) can describe are refused: eqs (8)
+    conserve momentum, M V0 = M V1 + M′ V1′, and keep the bodies apart, V1 ≤ V1′. A trial may break either by
+    its noise: with σ given (each velocity's standard deviation), by ``MOMENTUM_SIGMAS`` σ of the imbalance,
+    σ √(2M² + M′²), and of V1 − V1′, σ √2; without σ, by ``MOMENTUM_SLACK`` of M V0 and of V0."""
+    V0, V1, V1p = s["V0"], s["V1"], s["V1p"]
+    for i in range(V0.size):
+        m, mp = float(M[i]), float(Mp[i])
+        imbalance = m * V0[i] - m * V1[i] - mp * V1p[i]
+        if sigma is not None:
+            tol_p = MOMENTUM_SIGMAS * sigma * math.sqrt(2 * m * m + mp * mp)
+            tol_v = MOMENTUM_SIGMAS * sigma * math.sqrt(2.0)
+            allowed = f"{MOMENTUM_SIGMAS:g} σ of the noise, σ = {sigma:g}"
+        else:
+            tol_p, tol_v = MOMENTUM_SLACK * m * V0[i], MOMENTUM_SLACK * V0[i]
+            allowed = f"{MOMENTUM_SLACK:.0%} of M V0 (give --sigma to judge by the noise)"
+        if abs(imbalance) > tol_p:
+            raise InputError(s.at(i), f"the trial breaks momentum: M V0 − M V1 − M′ V1p = {imbalance:.4g} kg·m/s "
+                                      f"(M = {m:g}, M′ = {mp:g}), beyond {allowed}; expected M V0 = M V1 + M′ V1p "
+                                      "(signed velocities in m/s; are the masses right?)")
+        if V1[i] - V1p[i] > tol_v:
+            raise InputError(s.at(i), f"V1 = {V1[i]:g} exceeds V1p = {V1p[i]:g}: the striking body would pass "
+                                      f"through the struck one; expected V1 ≤ V1p (beyond {allowed.split(' (')[0]})")
+
+
+def check_imprints(x: np.ndarray, where: str, t: np.ndarray | None = None, lines: Sequence[int] | None = None) -> None:
+    """A ricochet series: ``MIN_IMPRINTS`` to ``MAX_IMPRINTS`` imprints, strictly increasing, in metres (spanning
+    at most ``MAX_SPAN``), and with instants (seconds) that increase and give a launch of at most ``MAX_SPEED``.
+    ``lines`` (each imprint's line in the file) lets a bad imprint be named as file:line."""
+
+    def at(i: int) -> str:
+        return f"{where}:{lines[i]}" if lines is not None else where
+
     if x.size < MIN_IMPRINTS:
         raise InputError(where, f"expected at least {MIN_IMPRINTS} imprints, got {x.size}")
+    if x.size > MAX_IMPRINTS:
+        raise InputError(where, f"expected at most {MAX_IMPRINTS} imprints, got {x.size}")
     bad = np.nonzero(np.diff(x) <= 0)[0]
     if bad.size:
-        raise InputError(where, f"imprint positions must increase; imprint {bad[0] + 2} is not beyond imprint "
-                                f"{bad[0] + 1} ({x[bad[0] + 1]:g} ≤ {x[bad[0]]:g})")
+        raise InputError(at(bad[0] + 1), f"imprint positions must increase; imprint {bad[0] + 2} is not beyond "
+                                         f"imprint {bad[0] + 1} ({x[bad[0] + 1]:g} ≤ {x[bad[0]]:g})")
+    span = float(x[-1] - x[0])
+    if span > MAX_SPAN:
+        raise InputError(where, f"the imprints span {span:g} m: expected positions in metres, a ricochet series "
+                                f"spanning at most {MAX_SPAN:g} m (millimetres? divide by 1000)")
+    if t is None:
+        return
+    bad = np.nonzero(np.diff(t) <= 0)[0]
+    if bad.size:
+        raise InputError(at(bad[0] + 1), f"impact instants t must increase; t = {t[bad[0] + 1]:g} s is not after "
+                                         f"{t[bad[0]]:g} s")
+    speed = span / float(t[-1] - t[0])
+    if speed > MAX_SPEED:
+        raise InputError(where, f"the imprints and instants give a mean speed of {speed:.4g} m/s along the plane, "
+                                f"more than the {MAX_SPEED:g} m/s of the fastest launch the fit admits: expected x "
+                                "in metres and t in seconds")
+    first = float(t[1] - t[0])
+    if 9.80665 * first / 2 > MAX_SPEED:
+        raise InputError(at(1), f"the first flight lasts {first:g} s, which would need a normal speed of "
+                                f"{9.80665 * first / 2:.4g} m/s (more than {MAX_SPEED:g}): expected t in seconds")
 
 
 def read_imprints(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
     """A ricochet series (column x in m, optional t in s), both measured from the first imprint."""
     d = read_series(path, ("x",), optional=("t",), min_rows=1)
-    x = d["x"]
-    check_imprints(x, str(path))
-    t = d.get("t")
-    if t is not None and np.any(np.diff(t) <= 0):
-        raise InputError(str(path), "impact instants t must increase")
+    x, t = d["x"], d.get("t")
+    check_imprints(x, str(path), t, d.lines)
     return x - x[0], None if t is None else t - t[0]

@@ -15,7 +15,7 @@ import numpy as np
 from .errors import InputError
 from .fitting import fit_direct_impact, fit_physical, fit_positions, fit_rebound, fit_times
 from .results import fit_rows, identifiability_report
-from .series import read_imprints, read_series
+from .series import check_pendulum_trials, read_imprints, read_rebounds, read_series
 
 __all__ = ["KINDS", "fit_csv"]
 
@@ -27,6 +27,30 @@ def _rows(fits: list) -> list[dict[str, Any]]:
     return [{k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(f).items()} for f in fits]
 
 
+def _header(path: Path) -> str:
+    """The header line as ``read_series`` finds it: the first line that is neither empty nor a # comment."""
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError):
+        return ""  # read_series says what is wrong with the file
+    return next((ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")), "")
+
+
+SIGMA_RANGE = (1e-12, 1e6)  # relative to the largest measured value
+
+
+def _check_sigma(sigma: float | None, data: tuple[np.ndarray, ...]) -> None:
+    """A given σ between 1e-12 and 1e6 times the largest measured value: smaller is below the rounding of the
+    numbers themselves (and overflows the weighted residuals), larger says the data carry no information."""
+    if sigma is None:
+        return
+    scale = max(float(np.max(np.abs(d))) for d in data)
+    lo, hi = (r * scale for r in SIGMA_RANGE)
+    if not lo <= sigma <= hi:
+        raise InputError(f"--sigma {sigma:g}", f"expected a standard deviation in [{lo:.3g}, {hi:.3g}], i.e. 1e-12 "
+                                               f"to 1e6 times the largest measured value ({scale:g}), in its unit")
+
+
 def fit_csv(kind: str, path: Path, M: float = 0.6, Mp: float = 0.2, R: float = 0.0305, k: float = 2.5,
             sigma: float | None = None) -> dict[str, Any]:
     """Fit the file at ``path`` with the estimator of ``kind``; see the module docstring for the columns."""
@@ -35,13 +59,16 @@ def fit_csv(kind: str, path: Path, M: float = 0.6, Mp: float = 0.2, R: float = 0
     if not path.is_file():
         raise InputError(str(path), "no such file")
     note = "" if sigma is None else f"σ = {sigma:g} given"
+    if kind == "ricochet" and sigma is not None:
+        raise InputError(f"--sigma {sigma:g}", "not used by the ricochet fit, which estimates the noise of "
+                                               "positions and instants from their residuals: leave it out")
     if kind == "rebound":
-        header = path.read_text(encoding="utf-8", errors="replace").lstrip().splitlines()[0:1]
-        heights = bool(header) and "h0" in header[0]
+        heights = "h0" in _header(path)
         cols = ("h0", "h1") if heights else ("V0", "V1")
-        s = read_series(path, cols, min_rows=2, positive=(cols[0],))
+        s = read_rebounds(path, heights)  # refuses h1 < 0, h1 > h0, V1 > 0, |V1| > V0: no abs(), no guess
         a, b = s[cols[0]], s[cols[1]]
-        V0, V1 = (np.sqrt(2 * G * a), -np.sqrt(2 * G * np.abs(b))) if heights else (a, b)
+        _check_sigma(sigma, (a, b))
+        V0, V1 = (np.sqrt(2 * G * a), -np.sqrt(2 * G * b)) if heights else (a, b)
         fit = fit_rebound(V0, V1, sigma)
         fits = fit_rows(fit, "rebound", {"eps": "ε"}, "least squares on §I eq. (9)", note)
         ident = [identifiability_report(fit, "rebound", {"eps": "ε"}, path.name)]
@@ -49,8 +76,10 @@ def fit_csv(kind: str, path: Path, M: float = 0.6, Mp: float = 0.2, R: float = 0
     elif kind == "pendulum":
         s = read_series(path, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=1, positive=("V0", "M", "Mp"))
         n = s["V0"].size
-        fit = fit_direct_impact(s.get("M", np.full(n, M)), s.get("Mp", np.full(n, Mp)), s["V0"], s["V1"], s["V1p"],
-                                sigma)
+        masses = s.get("M", np.full(n, M)), s.get("Mp", np.full(n, Mp))
+        _check_sigma(sigma, (s["V0"], s["V1"], s["V1p"]))
+        check_pendulum_trials(s, *masses, sigma)  # momentum kept and bodies apart, within the noise
+        fit = fit_direct_impact(*masses, s["V0"], s["V1"], s["V1p"], sigma)
         labels = {"eps": "ε (striking body)", "epsp": "ε′ (struck body)"}
         fits = fit_rows(fit, "pendulum", labels, "least squares on §I eqs (8), bounds [0, 1]", note)
         ident = [identifiability_report(fit, "pendulum", labels, path.name)]

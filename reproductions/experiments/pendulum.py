@@ -14,6 +14,7 @@ import numpy as np
 from ..config import Experiment, Node
 from ..fitting import FitResult, fit_direct_impact
 from ..mechanics import impact, reference
+from ..series import check_pendulum_trials
 from .base import (
     Computed,
     FigureSpec,
@@ -87,6 +88,7 @@ def _trials(p: Params) -> tuple[np.ndarray, ...]:
     n = s["V0"].size
     M = s.get("M", np.full(n, p.striker.mass))
     Mp = s.get("Mp", np.full(n, p.struck.mass))
+    check_pendulum_trials(s, M, Mp, p.sigma)  # momentum kept, bodies apart, within the noise
     return M, Mp, s["V0"], s["V1"], s["V1p"]
 
 

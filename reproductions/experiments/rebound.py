@@ -16,6 +16,7 @@ import numpy as np
 from ..config import Experiment, Node
 from ..fitting import FitResult, fit_rebound
 from ..mechanics import impact
+from ..series import read_rebounds
 from .base import (
     Computed,
     FigureSpec,
@@ -25,12 +26,12 @@ from .base import (
     identifiability_report,
     layer,
     modern_rows,
-    read_series,
     rows_for,
 )
 
 QUANTITIES = ("eq9_limit", "eps", "velocity_ratio", "eps_no_rebound", "eps_series")
 MODERN = ("e_c", "e_c(v)", "e_t")
+MAX_TRIALS = 10_000  # a synthetic series: far more trials than any measured one, still fitted in a blink
 G = 9.80665  # only to turn drop heights into speeds; every ratio here is independent of g
 
 
@@ -72,7 +73,7 @@ def parse(node: Node, base: Path) -> Params:
             series = base / s.string("csv")
         else:
             g = s.child("synthetic", "a mapping with n, low, high, noise")
-            n = g.integer("n", "a number of trials", lo=2)
+            n = g.integer("n", "a number of trials", lo=2, hi=MAX_TRIALS)
             low = g.number("low", "the smallest speed (m/s) or drop height (m)", lo=0.0, lo_open=True)
             high = g.number("high", "the largest speed (m/s) or drop height (m)", lo=low)
             noise = g.number("noise", "a relative standard deviation", lo=0.0, hi=1.0)
@@ -91,18 +92,20 @@ def _series(p: Params, seed: int) -> tuple[np.ndarray, np.ndarray, str] | None:
     """(V0, V1, label) of the trials: speeds directly, or from drop heights by free fall."""
     cols = ("V0", "V1") if p.quantity == "velocity_ratio" else ("h0", "h1")
     if p.series is not None:
-        s = read_series(p.series, cols, min_rows=2, positive=(cols[0],))
+        s = read_rebounds(p.series, heights=p.quantity == "height_ratio")  # refuses h1 < 0, h1 > h0, V1 > 0
         a, b, label = s[cols[0]], s[cols[1]], f"measured series ({p.series.name})"
     elif p.synthetic is not None:
         syn = p.synthetic
         rng = np.random.default_rng(seed)
         a = np.sort(rng.uniform(syn.low, syn.high, syn.n))
-        b = (-p.value if p.quantity == "velocity_ratio" else p.value) * a * (1 + syn.noise * rng.standard_normal(syn.n))
+        # the noise is clipped at −100 %, so that a synthetic rebound never changes sign (only for noise near 1)
+        b = (-p.value if p.quantity == "velocity_ratio" else p.value) * a * np.maximum(
+            1 + syn.noise * rng.standard_normal(syn.n), 0.0)
         label = f"SYNTHETIC series: model with r = {p.value:.4g}, {syn.noise:.0%} noise, seed {seed}"
     else:
         return None
     if p.quantity == "height_ratio":
-        return np.sqrt(2 * G * a), -np.sqrt(2 * G * np.abs(b)), label
+        return np.sqrt(2 * G * a), -np.sqrt(2 * G * b), label
     return a, b, label
 
 

@@ -10,6 +10,7 @@ again from the flight times; both estimators are compared over many seeds.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -19,7 +20,7 @@ from ..config import Experiment, Node
 from ..fitting import FitResult, fit_physical, fit_physical_positions, fit_positions, fit_times
 from ..mechanics import plane, reference
 from ..mechanics.paths import Regime
-from ..series import MIN_IMPRINTS, read_imprints
+from ..series import MAX_IMPRINTS, MIN_IMPRINTS, read_imprints
 from .base import (
     Computed,
     FigureSpec,
@@ -36,6 +37,8 @@ from .base import (
 STATIC = ("eq6_sliding", "eq6_all_regimes", "eq7_tan_sliding", "range_formula", "eq8_sliding", "eq8_all_regimes",
           "eq9_limit", "angles_decrease", "footnote_drop_ratio")
 MODERN = ("e_t",)
+MAX_SEEDS = 1000  # repetitions of the estimator comparison: 40 take about a second; 1000 pin the bias to 0.3 %
+SURFACE_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
 
 
 def quantities(p: Params) -> tuple[str, ...]:
@@ -83,7 +86,7 @@ def _synthetic(n: Node) -> Synthetic:
         a0=n.number("a0", "a speed in m/s", lo=0.0, lo_open=True),
         alpha0=math.radians(n.number("alpha0_deg", "an angle in degrees", lo=0.0, hi=90.0, lo_open=True)),
         p0=n.number("p0", "a spin in rad/s", default=0.0),
-        imprints=n.integer("imprints", "a number of imprints", lo=MIN_IMPRINTS),
+        imprints=n.integer("imprints", "a number of imprints", lo=MIN_IMPRINTS, hi=MAX_IMPRINTS),
         noise_x=n.number("noise_x", "a standard deviation in m", lo=0.0),
         noise_t=n.number("noise_t", "a standard deviation in s", lo=0.0),
     )
@@ -96,8 +99,17 @@ def parse(node: Node, base: Path) -> Params:
     g = node.number("g", "gravity in m/s²", lo=0.0, lo_open=True)
     p0_fit = node.number("p0_fit", "a spin in rad/s", default=0.0)
     surfaces = []
+    seen: dict[str, str] = {}
     for s in node.children("surfaces"):
         sid = s.string("id")
+        at = s._mapping()["id"]
+        if not SURFACE_ID.fullmatch(sid):
+            raise s.fail(f"'{s.path}.id' must be a plain name (letters, digits, hyphens, underscores; it names "
+                         f"the figure file ricochet-<id> and the quantity nu.<id>), got '{sid}'", at)
+        if sid.lower() in seen:
+            raise s.fail(f"'{s.path}.id' repeats the surface id '{seen[sid.lower()]}' (surface ids must be unique, "
+                         "ignoring case: each names a figure file and a quantity)", at)
+        seen[sid.lower()] = sid
         name = s.string("name")
         if s.has("csv") == s.has("synthetic"):
             raise s.fail(f"'{s.path}' must have exactly one of 'csv' (imprint positions) or 'synthetic'")
@@ -107,7 +119,7 @@ def parse(node: Node, base: Path) -> Params:
         surfaces.append(Surface(sid, name, syn, csv))
     if not surfaces:
         raise node.fail(f"'{node.path}.surfaces' must list at least one surface")
-    seeds = node.integer("seeds", "a number of synthetic repetitions", lo=1)
+    seeds = node.integer("seeds", "a number of synthetic repetitions", lo=1, hi=MAX_SEEDS)
     drop = node.number("drop_height_ratio", "a height ratio in (0, 1]", lo=0.0, hi=1.0, lo_open=True)
     m = node.child("error_map", "a mapping with alpha_max_deg, f_max, nu")
     amax = math.radians(m.number("alpha_max_deg", "an angle in degrees", lo=0.0, hi=89.0, lo_open=True))
