@@ -1,7 +1,8 @@
 """``resal``: list, reproduce and simulate. Parses arguments, calls one library function, renders.
 
 Heavy imports (numpy, scipy, matplotlib) happen inside the commands, so ``resal --help`` stays fast.
-Bad input of any kind ends with one message on stderr and exit status 2.
+Bad input of any kind ends with one message on stderr and exit status 2; `reproduce` interrupted by SIGTERM or
+SIGINT stops its workers, removes its staging folders and exits with 128 + the signal (143, 130).
 """
 
 from __future__ import annotations
@@ -10,7 +11,6 @@ import json
 import math
 import os
 import shutil
-import tempfile
 from pathlib import Path
 from typing import Annotated, Any, NoReturn
 
@@ -19,7 +19,7 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
-from reproductions.errors import InputError
+from reproductions.errors import InputError, Interrupted
 
 # plain help (no rich markup): typer then skips its rich formatting imports, and `resal --help` stays under 0.3 s
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False, rich_markup_mode=None,
@@ -109,36 +109,48 @@ def reproduce(
     """Run experiments, compare every printed value, write tables and figures into OUT/<experiment>/."""
     from reproductions import api, report
 
+    folders: list[Path] = []
     try:
-        names = list(experiments or [])
-        if all_:
-            names += [i for i in api.experiment_ids() if i not in names]
-        if not names:
-            raise InputError("arguments", "name an experiment id, a YAML path, or use --all")
-        exps = [api.load(n) for n in names]  # validate everything before running or writing anything
-        seen: dict[str, str] = {}
-        for n, e in zip(names, exps, strict=True):
-            if e.id in seen:
-                raise InputError(n, f"experiment id '{e.id}' is also the id of {seen[e.id]}: both would write "
-                                    f"{out / e.id}")
-            seen[e.id] = n
-        report.ensure_writable(out)
-        jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, len(exps)))
-        with err_console.status("") as status:
-            # run all first: a bad data file stops everything before anything is written; figures are drawn
-            # one by one across the processes as their experiment finishes, into a scratch folder
-            scratch = Path(tempfile.mkdtemp(dir=out, prefix=".figures-"))
-            try:
-                reps = api.run_and_draw(exps, jobs, scratch, status.update)
-                folders = [report.write_reproduction(r, out, drawn=scratch / r.experiment.id) for r in reps]
-            finally:
-                shutil.rmtree(scratch, ignore_errors=True)
-            summaries = [json.loads((f / "summary.json").read_text(encoding="utf-8")) for f in folders]
-            report.write_index(out)
+        with api.interruptible():
+            names = list(experiments or [])
+            if all_:
+                names += [i for i in api.experiment_ids() if i not in names]
+            if not names:
+                raise InputError("arguments", "name an experiment id, a YAML path, or use --all")
+            exps = [api.load(n) for n in names]  # validate everything before running or writing anything
+            seen: dict[str, str] = {}
+            for n, e in zip(names, exps, strict=True):
+                if e.id in seen:
+                    raise InputError(n, f"experiment id '{e.id}' is also the id of {seen[e.id]}: both would "
+                                        f"write {out / e.id}")
+                seen[e.id] = n
+            report.ensure_writable(out)
+            report.clean_stale(out)  # what a killed run (SIGKILL) of ours left behind
+            jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, len(exps)))
+            with err_console.status("") as status:
+                # run all first: a bad data file stops everything before anything is written; figures are drawn
+                # one by one across the processes as their experiment finishes, into a scratch folder
+                scratch = None
+                try:
+                    scratch = report.make_staging(out, "figures")
+                    reps = api.run_and_draw(exps, jobs, scratch, status.update)
+                    for r in reps:
+                        folders.append(report.write_reproduction(r, out, drawn=scratch / r.experiment.id))
+                finally:
+                    if scratch is not None:
+                        shutil.rmtree(scratch, ignore_errors=True)
+                summaries = [json.loads((f / "summary.json").read_text(encoding="utf-8")) for f in folders]
+                report.write_index(out)
     except InputError as err:
         _fail(err)
     except OSError as err:
         _fail(InputError(f"--out {out}", f"cannot write results ({err.strerror or err})"))
+    except Interrupted as exc:
+        done = (f"{out}: {len(folders)} experiment folder(s) replaced whole, nothing else changed" if folders
+                else f"{out} left as it was")
+        err_console.print(Text("error: ", style="bold red") + Text(f"interrupted ({exc.name}); {done}"),
+                          soft_wrap=True)
+        raise typer.Exit(128 + exc.signum) from None
     if as_json:
         obj = summaries[0] if len(summaries) == 1 else summaries
         typer.echo(_json(obj))

@@ -3,16 +3,19 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Sequence
+import signal
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
-from typing import TypeVar
+from typing import Any, TypeVar
 
 from .config import Experiment, load_experiment
-from .errors import InputError
+from .errors import InputError, Interrupted
 from .experiments import KINDS
 from .results import Reproduction
 
-__all__ = ["config_dir", "experiment_ids", "list_experiments", "load", "parallel_map", "run", "run_and_draw"]
+__all__ = ["config_dir", "experiment_ids", "interruptible", "list_experiments", "load", "parallel_map", "run",
+           "run_and_draw"]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -56,6 +59,73 @@ def run(exp: Experiment) -> Reproduction:
     return KINDS[exp.kind].run(exp)
 
 
+@contextmanager
+def interruptible() -> Iterator[None]:
+    """Within the block, SIGTERM (as SIGINT already does) raises an exception in the main thread:
+    ``Interrupted(signum)`` for either signal, raised once (a repeat during the cleanup is ignored), so that the
+    ``finally`` blocks stop the worker processes and remove the staging folders. Forked workers that inherit
+    the handler before ``_worker_init`` runs die of SIGTERM and ignore SIGINT. Main thread only."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():  # signal handlers belong to the main thread
+        yield
+        return
+    owner = os.getpid()
+    raised = False
+
+    def handler(signum: int, frame: Any) -> None:
+        nonlocal raised
+        if os.getpid() != owner:  # a forked worker, before _worker_init
+            if signum == signal.SIGTERM:
+                signal.signal(signum, signal.SIG_DFL)
+                os.kill(os.getpid(), signum)
+            return
+        if not raised:
+            raised = True
+            raise Interrupted(signum)
+
+    # a signal ignored from the start (SIGINT of a background job, `nohup`-like wrappers) stays ignored
+    sigs = [s for s in (signal.SIGINT, signal.SIGTERM) if signal.getsignal(s) is not signal.SIG_IGN]
+    previous = {s: signal.signal(s, handler) for s in sigs}
+    try:
+        yield
+    finally:
+        for s, h in previous.items():
+            signal.signal(s, h)
+
+
+def _worker_init() -> None:
+    """In each worker: SIGTERM kills at once (even inside a long numpy call), SIGINT (a Ctrl-C reaches the
+    whole process group) is left to the parent, which stops the workers itself."""
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+@contextmanager
+def _process_pool(jobs: int) -> Iterator[Any]:
+    """A ``ProcessPoolExecutor`` (fork where available) whose workers are terminated, not waited for, when the
+    block ends by an exception (an interruption, an error of one experiment)."""
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+
+    ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
+    pool = ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_worker_init)
+    try:
+        yield pool
+    except BaseException:
+        procs = list((getattr(pool, "_processes", None) or {}).values())
+        for p in procs:
+            p.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        for p in procs:
+            p.join(timeout=10)
+            if p.is_alive():
+                p.kill()
+                p.join(timeout=10)
+        raise
+    pool.shutdown(wait=True)
+
+
 def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
                  progress: Callable[[int, int], None] | None = None) -> list[R]:
     """``[fn(x) for x in items]`` on up to ``jobs`` processes, results in the input order; ``progress(done,
@@ -67,12 +137,10 @@ def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
             if progress:
                 progress(i, len(items))
         return out
-    import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures import as_completed
 
-    ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
     results: list[R | None] = [None] * len(items)
-    with ProcessPoolExecutor(max_workers=min(jobs, len(items)), mp_context=ctx) as pool:
+    with _process_pool(min(jobs, len(items))) as pool:
         futures = {pool.submit(fn, x): i for i, x in enumerate(items)}
         for done, fut in enumerate(as_completed(futures), 1):
             results[futures[fut]] = fut.result()
@@ -99,12 +167,10 @@ def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path,
             for spec in r.figures:
                 draw_figure((spec, scratch / r.experiment.id))
         return reps
-    import multiprocessing as mp
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+    from concurrent.futures import FIRST_COMPLETED, wait
 
-    ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
     reps: list[Reproduction | None] = [None] * len(exps)
-    with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
+    with _process_pool(jobs) as pool:
         running = {pool.submit(run, e): i for i, e in enumerate(exps)}
         drawing = set()
         n_fig = done_fig = 0

@@ -1,6 +1,9 @@
-"""The one error type that user-facing code turns into a clear message and exit status 2."""
+"""The errors that user-facing code turns into one clear message: bad input (exit status 2) and an
+interruption by a signal (exit status 128 + the signal's number)."""
 
 from __future__ import annotations
+
+import signal
 
 
 class InputError(Exception):
@@ -16,3 +19,19 @@ class InputError(Exception):
 
     def __reduce__(self) -> tuple[type, tuple[str, str]]:  # so that it crosses process boundaries intact
         return (InputError, (self.where, self.message))
+
+
+class Interrupted(BaseException):
+    """SIGTERM (``timeout``, a CI cancellation) or SIGINT received while ``api.interruptible`` was active.
+
+    A ``BaseException`` like ``KeyboardInterrupt``, so ``except Exception`` does not swallow it; the cleanup
+    in ``finally`` and ``except BaseException`` blocks runs on the way out.
+    """
+
+    def __init__(self, signum: int) -> None:
+        self.signum = signum
+        self.name = signal.Signals(signum).name
+        super().__init__(self.name)
+
+    def __reduce__(self) -> tuple[type, tuple[int]]:
+        return (Interrupted, (self.signum,))

@@ -1,22 +1,30 @@
 """Reproductions → ``summary.json`` (the machine-readable truth) and its renderings: tables, figures, index.
 
 Every experiment is written into a staging folder beside its final place and swapped in only when
-complete, so an error leaves earlier results untouched. Output is deterministic: stable key order,
-``repr`` floats, figures without time stamps.
+complete, so an error or an interruption leaves earlier results untouched. Staging names start with
+``.resal-<host>-<pid>-`` so that a later run can remove what a killed one left (``clean_stale``). Folders and
+files are made with a plain ``mkdir``/``open`` (never ``mkdtemp``/``mkstemp``, which make them private), so
+they get the user's umask. Output is deterministic: stable key order, ``repr`` floats, figures without time
+stamps or software versions.
 """
 
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
 import json
 import math
 import os
 import platform
+import re
+import secrets
 import shutil
+import signal
+import socket
 import subprocess
-import tempfile
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -25,7 +33,8 @@ from . import __version__
 from .errors import InputError
 from .results import FigureSpec, Reproduction
 
-__all__ = ["provenance", "summary", "write_index", "write_reproduction"]
+__all__ = ["clean_stale", "make_staging", "provenance", "staging_name", "summary", "write_index",
+           "write_reproduction"]
 
 HEADERS = ("quantity", "§ / eq.", "printed", "computed", "rel. diff", "verdict", "note")
 
@@ -229,14 +238,93 @@ def _draw(spec: FigureSpec, folder: Path) -> None:
     plt.close(fig)
 
 
+STAGING_PREFIX = ".resal-"
+_HOST = hashlib.sha256(socket.gethostname().encode()).hexdigest()[:8]  # a pid means nothing on another host
+_STAGING_RE = re.compile(r"\.resal-(?P<host>[0-9a-f]{8})-(?P<pid>[0-9]+)-[0-9a-f]{8}\.(?P<what>.+)")
+
+
+def staging_name(what: str, pid: int | None = None) -> str:
+    """A hidden name for something being written by this process: ``.resal-<host>-<pid>-<random>.<what>``."""
+    return f"{STAGING_PREFIX}{_HOST}-{os.getpid() if pid is None else pid}-{secrets.token_hex(4)}.{what}"
+
+
+def make_staging(parent: Path, what: str) -> Path:
+    """A new staging folder in ``parent``, made by a plain ``mkdir``: it gets the umask's mode (not 0700)."""
+    while True:
+        p = parent / staging_name(what)
+        try:
+            p.mkdir()
+            return p
+        except FileExistsError:
+            continue
+
+
+def _owner_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # another user's process
+        return True
+    return True
+
+
+def clean_stale(out: Path) -> list[Path]:
+    """Remove what killed runs staged in ``out``: only names with our prefix, made on this host by a process
+    that is gone (a running resal's staging is left alone). A previous experiment folder set aside during a
+    swap (``<id>.old``) is put back if its replacement never arrived. Returns the paths removed or restored."""
+    done = []
+    try:
+        entries = sorted(out.iterdir())
+    except OSError:
+        return done
+    for p in entries:
+        m = _STAGING_RE.fullmatch(p.name)
+        if not m or m["host"] != _HOST or int(m["pid"]) == os.getpid() or _owner_alive(int(m["pid"])):
+            continue
+        what = m["what"]
+        try:
+            if what.endswith(".old") and p.is_dir() and not p.is_symlink() and not (out / what[:-4]).exists():
+                os.replace(p, out / what[:-4])
+            elif p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p)
+            else:
+                p.unlink()
+        except OSError:
+            continue
+        done.append(p)
+    return done
+
+
+@contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """SIGINT and SIGTERM wait until the block ends (a swap of two renames is never left half done)."""
+    sigs = {signal.SIGINT, signal.SIGTERM}
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
 def _atomic_text(path: Path, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    """Write ``path`` through a temporary file beside it (a plain ``open``: the umask's mode), then rename."""
+    while True:
+        tmp = path.parent / staging_name(f"{path.name}.tmp")
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+            break
+        except FileExistsError:
+            continue
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(text)
         os.replace(tmp, path)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        tmp.unlink(missing_ok=True)
         raise
 
 
@@ -271,11 +359,13 @@ def write_reproduction(rep: Reproduction, out: Path, prov: dict[str, Any] | None
     """Write ``out/<experiment>/`` completely in a staging folder, then swap it in. ``drawn``: a folder where
     the figures were already rendered (``draw_figure``); they are moved in instead of drawn again."""
     s = summary(rep, prov if prov is not None else provenance(rep))
-    final = out / rep.experiment.id
+    eid = rep.experiment.id
+    final = out / eid
     try:
-        stage = Path(tempfile.mkdtemp(dir=out, prefix=f".{rep.experiment.id}.staging-"))
+        stage = make_staging(out, f"{eid}.staging")
     except OSError as exc:
         raise InputError(f"--out {out}", f"cannot write the output folder ({exc.strerror})") from None
+    old = None
     try:
         (stage / "summary.json").write_text(json.dumps(s, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
         (stage / "table.md").write_text(table_md(s), encoding="utf-8")
@@ -287,15 +377,23 @@ def write_reproduction(rep: Reproduction, out: Path, prov: dict[str, Any] | None
             else:
                 for ext in ("png", "pdf"):
                     os.replace(drawn / f"{spec.name}.{ext}", stage / f"{spec.name}.{ext}")
-        old = None
-        if final.exists():
-            old = out / f".{rep.experiment.id}.old-{os.getpid()}"
-            os.replace(final, old)
-        os.replace(stage, final)
+        with _signals_deferred():  # both renames or neither: never a missing experiment folder
+            if final.exists():
+                old = out / staging_name(f"{eid}.old")
+                os.replace(final, old)
+            try:
+                os.replace(stage, final)
+            except BaseException:
+                if old is not None:
+                    os.replace(old, final)
+                    old = None
+                raise
         if old is not None:
             shutil.rmtree(old, ignore_errors=True)
     except BaseException:
         shutil.rmtree(stage, ignore_errors=True)
+        if old is not None and final.exists():
+            shutil.rmtree(old, ignore_errors=True)
         raise
     return final
 

@@ -2,6 +2,7 @@
 declared accuracy (speed is measured by the benchmark, never asserted in a test)."""
 
 import json
+import os
 
 import pytest
 from typer.testing import CliRunner
@@ -36,6 +37,15 @@ def test_bench_reports_every_model_and_path_with_its_figures(report):
         assert {g["solver"] for g in mod["ode_grid"]} == set(rep["config"]["solvers"])
         assert all(g["max_error"] is not None and g["max_error"] < 1e-3 for g in mod["ode_grid"]), mod["model"]
     assert {r["model"] for r in rep["closed_forms_by_hand"]} == {"direct-impact", "plane-impact", "cloth-slide"}
+
+
+def test_bench_files_get_the_mode_of_the_users_umask(report):
+    out, _ = report
+    umask = os.umask(0)  # read it: set, then restore at once (the test runs in the main thread)
+    os.umask(umask)
+    files = sorted(out.iterdir())
+    assert files and all(p.is_file() for p in files)
+    assert {p.name: oct(p.stat().st_mode & 0o7777) for p in files} == {p.name: oct(0o666 & ~umask) for p in files}
 
 
 def test_every_path_is_as_accurate_as_it_declares_where_it_declares_itself_exact(report):
