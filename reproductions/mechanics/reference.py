@@ -167,7 +167,7 @@ def integrate_cloth(vx: float, vy: float, wx: float, wy: float, R: float, k: flo
     """Integrate §II's eqs (2) (friction opposite the current slip) until the slip vanishes, then roll.
 
     Returns a callable ``state(t) -> (x, y, vx, vy, wx, wy)`` valid on [0, t_end] and the time at which the
-    slip vanished (nan if it did not by t_end).
+    slip vanished; raises ``ArithmeticError`` if it did not by t_end.
     """
     I_over_M = R * R / k
 
@@ -190,7 +190,9 @@ def integrate_cloth(vx: float, vy: float, wx: float, wy: float, R: float, k: flo
     else:
         sol = check(solve_ivp(bounded(rhs), (0.0, t_end), y0, events=stops, rtol=rtol, atol=1e-14, dense_output=True,
                         method=solver))
-        t1 = float(sol.t_events[0][0]) if sol.t_events[0].size else float("nan")
+        if not sol.t_events[0].size:
+            raise ArithmeticError(f"§II: the slip did not stop by t = {t_end:g} s (slip {u0:g} m/s)")
+        t1 = float(sol.t_events[0][0])
     end = sol.sol(t1) if sol is not None and t1 == t1 else np.array(y0)
 
     def state(t: float) -> np.ndarray:

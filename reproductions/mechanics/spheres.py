@@ -117,10 +117,15 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         xi = M * omega1
         unit = s0 / np.where(s0n > 0, s0n, 1.0)[..., None]
         T = (f * xi)[..., None] * unit
-        stops = np.zeros(batch, dtype=bool)
+        # the premise (the balls slide throughout) fails where this slip change would reverse the slip: there
+        # the slip really stops (for free balls the same criterion as the exact path's)
+        s1 = s0 - np.stack([cy * T[..., 0], cz * T[..., 1]], axis=-1)
+        stops = (np.sum(s1 * s0, axis=-1) < 0) & (s0n > 0)
         converged = np.ones(batch, dtype=bool)
         label = ("Résal's §VI eqs (11)-(15), first order in f" if on_cloth
                  else "Résal's §V eqs (5), (8), sliding assumed throughout")
+        if stops.any():
+            label += f"; premise fails where the slip stops ({int(stops.sum())} of {stops.size} scene(s))"
     else:
         converged = np.ones(batch, dtype=bool)
         final = None  # on the cloth: the slip decay and its last roots, to end the fixed point from a warm start
@@ -166,8 +171,9 @@ def _cloth_normal_impulse(s0: np.ndarray, s0n: np.ndarray, approach: np.ndarray,
                           M: np.ndarray, cy: np.ndarray, cz: np.ndarray, f: np.ndarray,
                           S_eps: Any) -> tuple[np.ndarray, np.ndarray, tuple[SlipDecay, np.ndarray]]:
     """ω1 of law (6) on the cloth (§VI), where λ = |T|/ξ depends on ω1 through the exact slip decay: the root of
-    h(ω) = G(λ(ω)) − ω, by the secant method from the first two fixed-point iterates (a fixed-point step where
-    the secant is undefined), until ω moves less than ``FIXED_POINT_RTOL`` of itself (bounded by
+    h(ω) = G(λ(ω)) − ω, by the secant method from the first two fixed-point iterates, safeguarded by a bracket
+    of the root (bisection where the secant leaves it), until ω moves less than ``FIXED_POINT_RTOL`` of itself
+    or the bracket is that narrow (bounded by
     ``FIXED_POINT_MAXITER``). Returns ω1, per scene whether it converged, and the slip decay with its last
     roots (a warm start for the final decay). The slip at the greatest
     compression does not depend on λ. ``S_eps`` is evaluated on the whole batch (λ per scene)."""
@@ -190,10 +196,21 @@ def _cloth_normal_impulse(s0: np.ndarray, s0n: np.ndarray, approach: np.ndarray,
         lam[i] = np.hypot((a0[i] - a1) / cy[i], (b0[i] - b1) / cz[i]) / (M[i] * om)
         return ((2 * approach + 2 * lam * s0n - 2 * lam * w_c) / S(lam))[i]
 
+    # a bracket of the root of h = G − ω: h(0+) = G > 0 (λ w_c ≤ λ|s0|), and with S(λ) = A + Bλ²,
+    # G ≤ 2Δ/A + 2λ|s0|/(A + Bλ²) ≤ 2Δ/A + |s0|/√(AB) = hi, so h(hi) ≤ 0
+    A = S(np.zeros_like(f))
+    B = S(np.ones_like(f)) - A
+    lo, hi = np.zeros_like(A), (2 * approach / A + s0n / np.sqrt(A * B)) * (1 + 1e-12)
+
+    def bracket(om: np.ndarray, h: np.ndarray, i: np.ndarray) -> None:
+        lo[i] = np.where(h > 0, np.maximum(lo[i], om), lo[i])
+        hi[i] = np.where(h > 0, hi[i], np.minimum(hi[i], om))
+
     x0 = (2 * approach + 2 * f * s0n - 2 * f * w_c) / S(f)  # λ = f: the first guess
     x1 = G_of(x0, everyone)
+    bracket(x0, x1 - x0, everyone)
     prev, hprev = x0, x1 - x0
-    om = x1.copy()
+    om = np.clip(x1, lo, hi)
     done = np.abs(hprev) <= FIXED_POINT_RTOL * np.abs(om)
     for _ in range(FIXED_POINT_MAXITER):
         live = np.nonzero(~done)[0]
@@ -201,13 +218,18 @@ def _cloth_normal_impulse(s0: np.ndarray, s0n: np.ndarray, approach: np.ndarray,
             break
         g = G_of(om[live], live)
         h = g - om[live]
+        bracket(om[live], h, live)
         denom = h - hprev[live]
         with np.errstate(divide="ignore", invalid="ignore"):
             sec = om[live] - h * (om[live] - prev[live]) / denom
-        nxt = np.where(np.isfinite(sec) & (sec > 0) & (denom != 0), sec, g)  # else a fixed-point step
+        # the secant step where it stays inside the bracket, else bisection (the secant alone can cycle where
+        # the slip stops and h bends, e.g. a mass ratio of 1e10)
+        inside = np.isfinite(sec) & (sec > lo[live]) & (sec < hi[live]) & (denom != 0)
+        nxt = np.where(inside, sec, 0.5 * (lo[live] + hi[live]))
         prev[live], hprev[live] = om[live], h
         om[live] = nxt
-        done[live] = np.abs(nxt - prev[live]) <= FIXED_POINT_RTOL * np.abs(nxt)
+        done[live] = ((np.abs(nxt - prev[live]) <= FIXED_POINT_RTOL * np.abs(nxt))
+                      | (hi[live] - lo[live] <= FIXED_POINT_RTOL * hi[live]))
     return om.reshape(shape), done.reshape(shape), (dec, xs)
 
 
