@@ -154,6 +154,12 @@ class Model:
     scale: Callable[[Scene], np.ndarray] | None = None  # per-scene speed scale of the error measure
     vis_viva: Callable[[Scene, Any], tuple[np.ndarray, np.ndarray]] | None = None  # (before, after)
     mirror: Callable[[Scene], dict[str, np.ndarray]] | None = None  # the mirrored scene
+    # the momenta the impulses conserve (linear, and angular about a contact where that holds): (before, after,
+    # scale), components on the last axis, scale per scene (the sum of the magnitudes of the terms)
+    momentum: Callable[[Scene, Any], tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
+    # per compared output, its own natural scale (overrides ``scale`` and the output's factor), for outputs that
+    # are not speeds (times, lengths)
+    output_scale: Callable[[Scene], dict[str, np.ndarray]] | None = None
     mirrored: Callable[[Any], dict[str, np.ndarray]] | None = None  # a result's outputs, mirrored back
 
     def error(self, scene: Scene, a: Any, b: Any) -> np.ndarray:
@@ -161,15 +167,19 @@ class Model:
         times the radius named with them in ``outputs``)."""
         assert self.scale is not None
         s = np.asarray(self.scale(scene), dtype=float)
+        own = self.output_scale(scene) if self.output_scale is not None else {}
         worst = np.zeros(s.shape)
         for spec in self.outputs:
             name, _, factor = spec.partition("*")
             fa, fb = np.asarray(getattr(a, name), dtype=float), np.asarray(getattr(b, name), dtype=float)
             d = np.abs(fa - fb)
-            if factor:
+            if name in own:
+                sc = np.asarray(own[name], dtype=float)
+                d = d / np.where(sc > 0, sc, 1.0).reshape(s.shape + (1,) * (d.ndim - s.ndim))
+            elif factor:
                 d = d * np.asarray(scene[factor], dtype=float).reshape(s.shape + (1,) * (d.ndim - s.ndim))
             d = d.reshape(*s.shape, -1).max(axis=-1) if d.ndim > s.ndim else d
-            worst = np.maximum(worst, d / s)
+            worst = np.maximum(worst, d if name in own else d / s)
         return worst
 
     def path(self, name: str) -> Path:

@@ -31,6 +31,7 @@ __all__ = ["MODELS", "model"]
 Scene = dict[str, np.ndarray]
 
 _EPS = {"lo": 0.0, "hi": 1.0}
+_ULP = float(np.finfo(float).eps)
 _NU = {"lo": 0.0, "hi": 1.0, "lo_open": True}
 _R = Param("R", "m", "radius of the ball", 0.0305, lo=0.0, lo_open=True)
 _K = Param("k", "1", "moment of inertia M R²/k (k = 5/2: a homogeneous ball)", 2.5, lo=0.0, lo_open=True)
@@ -178,8 +179,8 @@ def _cloth_ode(s: Scene, rtol: float = 1e-11, solver: str = "DOP853") -> cloth.C
     for idx in np.ndindex(shape):
         vx, vy, wx, wy, R, k, f, g = (float(a[idx]) for a in arrays)
         u0 = math.hypot(vx - wy * R, vy + wx * R)
-        if u0 == 0.0:
-            out[idx] = (0.0, 0.0, 0.0, vx, vy, 0.0)
+        if u0 <= 64 * _ULP * (abs(vx) + abs(vy) + (abs(wx) + abs(wy)) * R):  # no slip, or one lost in the
+            out[idx] = (0.0, 0.0, 0.0, vx, vy, 0.0)  # rounding of its terms: no integration can resolve it
             continue
         state, t1 = reference.integrate_cloth(vx, vy, wx, wy, R, k, f, g, 1.01 * u0 / (f * g),  # |du/dt| ≥ fg
                                               rtol=rtol, solver=solver)
@@ -199,6 +200,14 @@ def _cloth_sample(rng: np.random.Generator, n: int) -> Scene:
     s["vy"][::5] = -s["wx"][::5] * s["R"][::5]  # some scenes already rolling: no slip, exactly
     s["vx"][::5] = s["wy"][::5] * s["R"][::5]
     return s
+
+
+def _cloth_scales(s: Scene) -> dict[str, np.ndarray]:
+    """Natural scales of §II's outputs from the speed scale V = |v| + |w|R: times V/(fg), lengths V²/(fg),
+    speeds V (the time and the path to rolling grow as 1/f)."""
+    V = np.hypot(s["vx"], s["vy"]) + np.hypot(s["wx"], s["wy"]) * s["R"]
+    fg = np.asarray(s["f"], dtype=float) * np.asarray(s["g"], dtype=float)
+    return {"t_roll": V / fg, "x_roll": V * V / fg, "y_roll": V * V / fg, "vx_roll": V, "vy_roll": V}
 
 
 def _cloth_vis_viva(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -247,6 +256,41 @@ def _flip(s: Scene, *names: str) -> dict[str, np.ndarray]:
     return out
 
 
+def _stack(*xs: Any) -> np.ndarray:
+    return np.stack(np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in xs)), axis=-1)
+
+
+def _about_contact(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """§III and §IV: the impulses act at the contact, so the angular momentum about it, per unit mass
+    χ + pR/k along the slip (the friction changes χ by −F and pR by kF), is conserved."""
+    R, k = np.asarray(s["R"], dtype=float), np.asarray(s["k"], dtype=float)
+    chi0, p0 = np.asarray(s["chi0"], dtype=float), np.asarray(s["p0"], dtype=float)
+    before, after = chi0 + p0 * R / k, r.chi1 + r.p1 * R / k
+    scale = np.abs(chi0) + np.abs(p0 * R / k) + np.abs(r.chi1) + np.abs(r.p1 * R / k)
+    return before[..., None], np.asarray(after)[..., None], scale
+
+
+def _ricochet_momentum(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """χ + pR/k at every impact (``_about_contact``); the flights change neither χ nor p."""
+    R, k = np.asarray(s["R"], dtype=float), np.asarray(s["k"], dtype=float)
+    a0, al, p0 = (np.asarray(s[x], dtype=float) for x in ("a0", "alpha0", "p0"))
+    chi, p = r.chi[..., -1], r.p[..., -1]
+    before, after = a0 * np.cos(al) + p0 * R / k, chi + p * R / k
+    return before[..., None], after[..., None], np.abs(a0) + np.abs(p0 * R / k) + np.abs(chi) + np.abs(p * R / k)
+
+
+def _cloth_momentum(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """§II: friction acts at the contact with the cloth, gravity and the reaction pass through it, so the
+    horizontal angular momentum about it, v + (R/k) w × e_z per unit mass, is conserved; at the onset of rolling
+    w × e_z R = v, i.e. (1 + 1/k) v_roll."""
+    R, k = np.asarray(s["R"], dtype=float), np.asarray(s["k"], dtype=float)
+    vx, vy, wx, wy = (np.asarray(s[x], dtype=float) for x in ("vx", "vy", "wx", "wy"))
+    before = _stack(vx + wy * R / k, vy - wx * R / k)
+    after = _stack(r.vx_roll * (1 + 1 / k), r.vy_roll * (1 + 1 / k))
+    scale = np.hypot(vx, vy) + np.hypot(wx, wy) * R / k + np.hypot(r.vx_roll, r.vy_roll) * (1 + 1 / k)
+    return before, after, scale
+
+
 # ---- §V-§VI: two balls ---------------------------------------------------------------------------------------
 def _spheres(method: str, on_cloth: bool):
     def run(s: Scene, rtol: float = 1e-11, solver: str = "DOP853") -> spheres.SpheresImpact:
@@ -286,6 +330,33 @@ def _spheres_sample(on_cloth: bool):
                 "Rp": np.full(n, 0.0305), "k": np.full(n, 2.5), "kp": np.full(n, 2.5), "v": v, "w": w, "vp": vp,
                 "wp": wp, "f": f, "eps": rng.uniform(0.0, 1.0, n), "epsp": rng.uniform(0.0, 1.0, n)}
     return sample
+
+
+def _spheres_momentum(on_cloth: bool):
+    """§V: the total momentum, and each ball's angular momentum about the point of contact (the impulses act
+    there). §VI: the cloth takes the vertical impulses at the foot of each ball, so only the horizontal momentum
+    and the x and z components of those angular momenta are conserved."""
+    keep = [0, 1, 3, 5, 6, 8] if on_cloth else list(range(9))
+
+    def momentum(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        M, Mp, R, Rp, k, kp = (np.asarray(s[x], dtype=float) for x in ("M", "Mp", "R", "Rp", "k", "kp"))
+        ex = np.zeros((*np.shape(M), 3))
+        ex[..., 0] = 1.0
+
+        def terms(v: Any, w: Any, vp: Any, wp: Any) -> list[np.ndarray]:
+            v, w, vp, wp = (np.asarray(x, dtype=float) for x in (v, w, vp, wp))
+            return [M[..., None] * v, Mp[..., None] * vp,  # momenta; then the moments about the contact
+                    M[..., None] * np.cross(-R[..., None] * ex, v), (M * R**2 / k)[..., None] * w,
+                    Mp[..., None] * np.cross(Rp[..., None] * ex, vp), (Mp * Rp**2 / kp)[..., None] * wp]
+
+        def total(t: list[np.ndarray]) -> np.ndarray:
+            return np.concatenate([t[0] + t[1], t[2] + t[3], t[4] + t[5]], axis=-1)[..., keep]
+
+        t0, t1 = terms(s["v"], s["w"], s["vp"], s["wp"]), terms(r.v1, r.w1, r.v1p, r.w1p)
+        scale = sum(np.linalg.norm(x, axis=-1) for x in (*t0, *t1))
+        return total(t0), total(t1), scale
+
+    return momentum
 
 
 def _spheres_vis_viva(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -355,7 +426,8 @@ def _spheres_model(on_cloth: bool) -> Model:
         "the striking ball must approach (v_x > v′_x)" + ("; on the cloth v_z = v′_z = 0" if on_cloth else ""),
         sample=_spheres_sample(on_cloth), scale=lambda s: np.abs(np.asarray(s["v"])[..., 0]
                                                                  - np.asarray(s["vp"])[..., 0]),
-        vis_viva=_spheres_vis_viva, mirror=_spheres_mirror, mirrored=_spheres_mirrored)
+        vis_viva=_spheres_vis_viva, mirror=_spheres_mirror, mirrored=_spheres_mirrored,
+        momentum=_spheres_momentum(on_cloth))
 
 
 # ---- §VII: the cue -------------------------------------------------------------------------------------------
@@ -416,6 +488,23 @@ def _cue_admissible(s: Scene) -> np.ndarray:
     return inside & (-(a * np.cos(i) - c * np.sin(i)) / R > 0)
 
 
+def _cue_momentum(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """§VII: the cloth's reaction and friction act at the foot B of the ball, the cue's force along its axis
+    through the tip; so the ball's angular momentum about B plus the moment about B of the cue's momentum
+    (M′V′ along d through the tip) is conserved."""
+    M, Mp, R, k, i, b, c = (np.asarray(s[x], dtype=float) for x in ("M", "Mp", "R", "k", "i", "b", "c"))
+    a = -np.sqrt(np.maximum(R * R - b * b - c * c, 0.0))
+    arm = np.cross(_stack(a, b, c + R), _stack(np.cos(i), 0.0 * i, -np.sin(i)))  # tip about B, × d
+    zero = np.zeros_like(r.chi1)
+    ball = (M[..., None] * np.cross(_stack(zero, zero, R + zero), _stack(r.chi1, r.eta1, zero))
+            + (M * R * R / k)[..., None] * _stack(r.n1, r.p1, r.q1))
+    before = (Mp * np.asarray(s["V0p"], dtype=float))[..., None] * arm
+    after = ball + (Mp * r.V1p)[..., None] * arm
+    scale = np.linalg.norm(before, axis=-1) + np.linalg.norm(ball, axis=-1) + np.abs(Mp * r.V1p) * np.linalg.norm(
+        arm, axis=-1)
+    return before, after, scale
+
+
 def _cue_vis_viva(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray]:
     M, Mp, R, k = (np.asarray(s[x], dtype=float) for x in ("M", "Mp", "R", "k"))
     after = Mp * r.V1p**2 + M * (r.chi1**2 + r.eta1**2) + M * R * R / k * (r.n1**2 + r.p1**2 + r.q1**2)
@@ -441,7 +530,11 @@ def _build() -> dict[str, Model]:
             "the bodies must approach (V0 > V′0): separating bodies do not collide",
             sample=_direct_sample, scale=lambda s: np.abs(np.asarray(s["V0"]) - np.asarray(s["V0p"])),
             vis_viva=lambda s, r: (s["M"] * s["V0"] ** 2 + s["Mp"] * s["V0p"] ** 2,
-                                   s["M"] * r.V1**2 + s["Mp"] * r.V1p**2)),
+                                   s["M"] * r.V1**2 + s["Mp"] * r.V1p**2),
+            momentum=lambda s, r: ((s["M"] * s["V0"] + s["Mp"] * s["V0p"])[..., None],
+                                   (s["M"] * r.V1 + s["Mp"] * r.V1p)[..., None],
+                                   np.abs(s["M"] * s["V0"]) + np.abs(s["Mp"] * s["V0p"]) + np.abs(s["M"] * r.V1)
+                                   + np.abs(s["Mp"] * r.V1p))),
         Model("wall-impact", "§I n°5, eq. (9)", "impact on an immovable mass (cushion, slab)", (
             Param("V0", "m/s", "normal velocity before the impact, towards the mass", 1.0, lo=0.0, lo_open=True),
             Param("eps", "1", "Résal's ε of the ball", None, **_EPS),
@@ -473,6 +566,7 @@ def _build() -> dict[str, Model]:
         ), ("chi1", "zeta1", "p1*R"), lambda s: np.asarray(s["zeta0"]) < 0,
             "the sphere must approach the plane (ζ0 < 0)", sample=_plane_sample,
             scale=lambda s: np.hypot(s["chi0"], s["zeta0"]) + np.abs(s["p0"] * s["R"]), vis_viva=_plane_vis_viva,
+            momentum=_about_contact,
             mirror=lambda s: _flip(s, "chi0", "p0"), mirrored=lambda r: {"chi1": -r.chi1, "zeta1": r.zeta1,
                                                                           "p1": -r.p1}),
         Model("ricochet", "§III n°9", "ricochets on a horizontal plane: impacts and parabolic flights", (
@@ -492,7 +586,7 @@ def _build() -> dict[str, Model]:
         ), ("ranges", "times", "chi", "zeta", "p*R"), lambda s: np.ones(np.shape(s["a0"]), dtype=bool),
             "every launch (a0 > 0, 0 < α0 < π/2)", static=("n",), sample=_ricochet_sample,
             scale=lambda s: np.asarray(s["a0"]) * (1 + np.asarray(s["a0"]) / np.asarray(s["g"]))
-            + np.abs(s["p0"] * s["R"]), vis_viva=_ricochet_vis_viva),
+            + np.abs(s["p0"] * s["R"]), vis_viva=_ricochet_vis_viva, momentum=_ricochet_momentum),
         Model("cloth-slide", "§II n°7, eqs (1)-(5)", "a ball sliding on the cloth until it rolls", (
             Param("vx", "m/s", "velocity of the centre along x", 2.0), Param("vy", "m/s", "along y", 0.0),
             Param("wx", "rad/s", "rotation about x, n; the slip is v_y = η + nR", 0.0),
@@ -505,7 +599,8 @@ def _build() -> dict[str, Model]:
         ), ("t_roll*g", "x_roll*g", "y_roll*g", "vx_roll", "vy_roll"), lambda s: np.ones(np.shape(s["vx"]), bool),
             "every initial state", sample=_cloth_sample,
             scale=lambda s: 1 + np.hypot(s["vx"], s["vy"]) + np.hypot(s["wx"], s["wy"]) * s["R"],
-            vis_viva=_cloth_vis_viva, mirror=lambda s: _flip(s, "vy", "wx"),
+            vis_viva=_cloth_vis_viva, momentum=_cloth_momentum, output_scale=_cloth_scales,
+            mirror=lambda s: _flip(s, "vy", "wx"),
             mirrored=lambda r: {"t_roll": r.t_roll, "x_roll": r.x_roll, "y_roll": -r.y_roll, "vx_roll": r.vx_roll,
                                 "vy_roll": -r.vy_roll}),
         Model("cushion-impact", "§IV n°11, eqs (4)-(11)", "a ball against a cushion, with friction and side spin", (
@@ -531,7 +626,7 @@ def _build() -> dict[str, Model]:
         ), ("chi1", "zeta1", "p1*R", "n1*R"), lambda s: np.asarray(s["zeta0"]) < 0,
             "the ball must approach the cushion (ζ0 < 0)", sample=_cushion_sample,
             scale=lambda s: np.hypot(s["chi0"], s["zeta0"]) + np.hypot(s["p0"], s["n0"]) * s["R"],
-            vis_viva=_cushion_vis_viva, mirror=lambda s: _flip(s, "chi0", "p0"),
+            vis_viva=_cushion_vis_viva, momentum=_about_contact, mirror=lambda s: _flip(s, "chi0", "p0"),
             mirrored=lambda r: {"chi1": -r.chi1, "zeta1": r.zeta1, "p1": -r.p1, "n1": r.n1}),
         _spheres_model(False),
         _spheres_model(True),
@@ -557,7 +652,7 @@ def _build() -> dict[str, Model]:
                  solver="LSODA"),
         ), ("chi1", "eta1", "n1*R", "p1*R", "q1*R", "V1p"), _cue_admissible,
             "the contact point must lie on the ball (b² + c² < R²) where the cue can reach it (cos φ > 0)",
-            sample=_cue_sample, scale=lambda s: np.asarray(s["V0p"]), vis_viva=_cue_vis_viva,
+            sample=_cue_sample, scale=lambda s: np.asarray(s["V0p"]), vis_viva=_cue_vis_viva, momentum=_cue_momentum,
             mirror=lambda s: _flip(s, "b"),
             mirrored=lambda r: {"chi1": r.chi1, "eta1": -r.eta1, "n1": -r.n1, "p1": r.p1, "q1": -r.q1,
                                 "V1p": r.V1p}),
