@@ -27,7 +27,7 @@ bench: $(STAMP)
 	$(BIN)/resal bench
 
 stress: $(STAMP)
-	$(BIN)/python -m reproductions.stress
+	$(BIN)/resal stress
 
 golden: $(STAMP)
 	$(BIN)/python -m reproductions.golden

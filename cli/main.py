@@ -45,8 +45,9 @@ def _fail(err: InputError) -> NoReturn:
 MAX_JOBS = 256  # `reproduce --jobs`: a pool forks all its workers at once, so a typo must not fork thousands
 
 
-def _out_folder(text: str) -> Path:
+def _out_folder(text: str | Path) -> Path:
     """``--out``: a folder; an empty text (which would mean the current folder) is refused."""
+    text = str(text)  # typer hands a default Path through the parser too
     if not text.strip():
         _fail(InputError(f"--out '{text}'", "expected a folder (an empty name would write into the current "
                                             "folder; say --out . if that is what you mean)"))
@@ -303,6 +304,66 @@ def bench(
                       "—" if e is None else f"{e:.2e}", ("wrong" if wrong else "right") if r["path"] == "auto" else "")
     out_console.print(t)
     err_console.print(f"wrote {', '.join(str(p) for p in written[:2])} and {len(written) - 2} figure files")
+
+
+def _count(name: str, lo: int, hi: int):
+    def parse(text: str) -> int:
+        try:
+            n = int(text)
+        except ValueError:
+            n = None
+        if n is None or not lo <= n <= hi:
+            _fail(InputError(f"{name} {text}", f"expected a whole number in [{lo:,}, {hi:,}]"))
+        return n
+    return parse
+
+
+@app.command()
+def stress(
+    models: Annotated[list[str] | None, typer.Argument(help="models (default: all; see simulate --list)")] = None,
+    scenes: Annotated[int, typer.Option(help="random scenes per closed-form and exact path",
+                                        parser=_count("--scenes", 1, 50_000_000))] = 1_000_000,
+    ode_scenes: Annotated[int, typer.Option(help="scenes per ODE path (each one integrated)",
+                                            parser=_count("--ode-scenes", 1, 100_000))] = 150,
+    seed: Annotated[int, typer.Option(help="seed of the random scenes", parser=_count("--seed", 0, 2**63 - 1))] = 12,
+    out: Annotated[Path, typer.Option("--out", help="folder for stress.json and stress.md",
+                                      parser=_out_folder)] = Path("results/stress"),
+) -> None:
+    """Stress every model × path over random scenes beyond the physical range; exit 1 on any failure."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from reproductions import stress as stress_mod
+    from reproductions.mechanics import registry
+
+    names = list(models or [])
+    unknown = [m for m in names if m not in registry.MODELS]
+    if unknown:
+        _fail(InputError(f"model '{unknown[0]}'", f"unknown model (expected some of: {', '.join(registry.MODELS)})"))
+    todo = names or list(registry.MODELS)
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  console=err_console, transient=True) as bar:
+        task = bar.add_task("stress", total=len(todo) * scenes)
+
+        def step(model: str, k: int) -> None:
+            bar.update(task, advance=k, description=f"stress: {model}")
+
+        rep = stress_mod.run(names, scenes=scenes, ode_scenes=ode_scenes, seed=seed, progress=step)
+    try:
+        written = stress_mod.write(rep, out)
+    except OSError as err:
+        _fail(InputError(f"--out {out}", f"cannot write the stress report ({err.strerror or err})"))
+    t = Table(title=f"stress: {rep['verdict']} ({rep['failures']} failure(s))")
+    for c in ("model", "path", "kind", "scenes", "failures", "findings"):
+        t.add_column(c)
+    for mod in rep["models"]:
+        for r in mod["rows"]:
+            t.add_row(r["model"], r["path"], r["kind"], f"{r['scenes']:,}",
+                      ", ".join(f"{k}: {v}" for k, v in r["failures"].items()) or "none",
+                      ", ".join(f"{k}: {v['scenes']:,}" for k, v in r["findings"].items()))
+    out_console.print(t)
+    err_console.print(f"wrote {', '.join(str(p) for p in written)}")
+    if rep["failures"]:
+        raise typer.Exit(1)
 
 
 def _read_summary(path: Path) -> dict[str, Any]:

@@ -168,16 +168,6 @@ def test_no_printed_coefficient_is_a_default():
                 assert prm.default is None, (m.name, prm.name)
 
 
-def test_stress_sweep_reads_the_registry_and_finds_every_path_stable():
-    from reproductions import stress
-
-    rows = stress.registry_sweep(n=24, n_ode=2)
-    assert {(r["model"], r["path"]) for r in rows} == set(PAIRS)
-    for r in rows:
-        assert r["scenes"] > 0 and r["non_finite"] == 0, r
-        assert r["max_vis_viva_gain"] < stress.TOL, r
-
-
 @pytest.mark.parametrize("eps", [0.99, 0.999, 0.9995, 0.9999])
 def test_the_direct_impact_ode_holds_its_accuracy_for_nearly_plastic_impacts(eps):
     """Its restitution lasts (π/2)·e: longer steps used to jump over the separation (error 9e-8 at ε = 0.999)."""

@@ -1,0 +1,179 @@
+"""``resal stress``: the harness finds what it claims to find (injected defects), and the registry passes it.
+
+A small run (a few thousand scenes per path) of the real harness must end with no failure; fake paths with a
+planted jump, a planted gain of vis viva and a planted break of momentum must each be caught, and the
+approximation kinds must report such things as findings, not failures, outside the region where they declare
+themselves exact. The replay command of a scene reruns that scene.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import shlex
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from cli.main import app
+from reproductions import stress
+from reproductions.mechanics import paths, registry
+from reproductions.mechanics.paths import Kind, Regime
+
+
+@pytest.fixture(scope="module")
+def small_run() -> dict:
+    return stress.run(scenes=3000, ode_scenes=3, pairs=150, seed=3)
+
+
+def test_a_small_run_covers_every_model_and_path_and_finds_no_failure(small_run):
+    rows = {(r["model"], r["path"]): r for mod in small_run["models"] for r in mod["rows"]}
+    expected = {(m.name, p.name) for m in registry.MODELS.values() for p in m.paths}
+    expected |= {(m, "auto") for m in registry.MODELS}
+    assert set(rows) == expected
+    for key, r in rows.items():
+        assert r["scenes"] > 0, key
+        assert r["failures"] == {}, (key, r["failures"], r["worst"])
+    assert small_run["failures"] == 0 and small_run["verdict"] == "stable"
+    json.dumps(small_run, allow_nan=False)  # the report is strict JSON
+
+
+def test_regime_boundaries_are_crossed_where_a_model_has_regimes(small_run):
+    crossed = {(r["model"], r["path"]): r["boundary_pairs"] for mod in small_run["models"] for r in mod["rows"]}
+    for model in ("plane-impact", "ricochet", "cloth-slide", "cushion-impact", "spheres-free", "spheres-cloth",
+                  "cue-stroke"):
+        assert crossed[(model, "auto")] > 20, model
+        assert crossed[(model, "exact")] > 20, model
+
+
+def test_the_known_findings_are_reported_as_findings(small_run):
+    """Résal's printed §VII moment (eq. 2, without F a sin i) breaks the angular momentum about the foot of
+    the ball; his approximations gain vis viva for large f. Neither is a failure."""
+    rows = {(r["model"], r["path"]): r for mod in small_run["models"] for r in mod["rows"]}
+    assert rows[("cue-stroke", "resal")]["findings"]["momentum"]["scenes"] > 0
+    for model in ("plane-impact", "spheres-free", "spheres-cloth"):
+        f = rows[(model, "resal")]["findings"]["vis-viva-gain"]
+        assert f["scenes"] > 0 and f["region"]["f"][1] > 1.0, model
+
+
+def test_wide_scenes_reach_the_extremes_the_issue_names():
+    m = registry.MODELS["spheres-free"]
+    s, drawn = stress.wide_scenes(m, np.random.default_rng(0), 20_000)
+    assert drawn >= 20_000 and np.all(stress._admissible_values(m, s))
+    speed = np.abs(s["v"][:, 0] - s["vp"][:, 0])
+    assert speed.min() < 1e-5 and speed.max() > 1e2
+    ratio = s["M"] / s["Mp"]
+    assert ratio.min() < 1e-5 and ratio.max() > 1e5
+    assert np.any(s["eps"] == 0) and np.any(s["eps"] == 1) and np.any(s["f"] == 0) and s["f"].max() > 5
+    assert np.any(s["k"] == 1) and s["k"].min() < 0.6 and s["k"].max() > 9
+    assert np.any(np.all(s["w"] == 0, axis=1))
+    r = registry.MODELS["ricochet"]
+    sr, _ = stress.wide_scenes(r, np.random.default_rng(0), 5000)
+    assert sr["alpha0"].min() < 1e-6 and sr["alpha0"].max() > np.pi / 2 - 1e-6  # grazing and normal
+
+
+def _with_path(model: paths.Model, name: str, run, kind: Kind | None = None, exact_when=None) -> paths.Model:
+    new = []
+    for p in model.paths:
+        if p.name == name:
+            p = dataclasses.replace(p, run=run, kind=kind or p.kind, exact_when=exact_when or p.exact_when)
+        new.append(p)
+    return dataclasses.replace(model, paths=tuple(new))
+
+
+def _plane_with(change, kind: Kind | None = None, exact_when=None) -> paths.Model:
+    m = registry.MODELS["plane-impact"]
+    exact = m.path("exact").run
+    return _with_path(m, "exact", lambda s: change(s, exact(s)), kind, exact_when)
+
+
+def _failures(m: paths.Model, path: str = "exact") -> tuple[dict, dict]:
+    rep = stress.stress_model(m, 4000, 2, 300, seed=1)
+    row = next(r for r in rep["rows"] if r["path"] == path)
+    return row["failures"], row["findings"]
+
+
+def test_a_planted_jump_at_the_regime_boundary_is_found():
+    def jump(s, r):
+        grip = r.regime == Regime.GRIP
+        scale = np.hypot(s["chi0"], s["zeta0"]) + np.abs(s["p0"] * s["R"])
+        return dataclasses.replace(r, chi1=r.chi1 + np.where(grip, 1e-6 * scale, 0.0))
+
+    fails, _ = _failures(_plane_with(jump))
+    assert fails.get("discontinuity", 0) > 0
+
+
+def test_a_steep_but_continuous_change_is_not_a_jump():
+    """The bracket test: a slope of 1e12 in relative units of the outputs near the boundary, still continuous."""
+    def steep(s, r):
+        v0 = s["chi0"] - s["p0"] * s["R"]
+        budget = s["f"] * (1 + s["k"]) * (1 + s["nu"]) * np.abs(s["zeta0"])
+        scale = np.hypot(s["chi0"], s["zeta0"]) + np.abs(s["p0"] * s["R"])
+        return dataclasses.replace(r, zeta1=r.zeta1 * (1 + 1e-3 * np.tanh(1e12 * (np.abs(v0) - budget) / scale)))
+
+    fails, _ = _failures(_plane_with(steep))
+    assert "discontinuity" not in fails
+
+
+def test_a_planted_gain_and_momentum_break_are_failures_of_an_exact_path_and_findings_of_an_approximation():
+    def push(s, r):
+        return dataclasses.replace(r, chi1=r.chi1 * (1 + 1e-6) + 1e-6 * np.abs(s["zeta0"]))
+
+    fails, _ = _failures(_plane_with(push))
+    assert fails.get("momentum", 0) > 0 and fails.get("vis-viva-gain", 0) > 0
+    never = _plane_with(push, kind=Kind.AS_PRINTED, exact_when=lambda s: np.zeros(np.shape(s["chi0"]), bool))
+    fails, findings = _failures(never)
+    assert "momentum" not in fails and "vis-viva-gain" not in fails
+    assert findings["momentum"]["scenes"] > 0 and findings["vis-viva-gain"]["scenes"] > 0
+
+
+def test_non_finite_outputs_and_solver_errors_are_failures():
+    def nan(s, r):
+        return dataclasses.replace(r, p1=np.where(s["f"] > 1, np.nan, r.p1))
+
+    fails, _ = _failures(_plane_with(nan))
+    assert fails.get("non-finite", 0) > 0
+
+    def boom(s, r):
+        if np.any(s["f"] > 5):
+            raise ArithmeticError("planted")
+        return r
+
+    fails, _ = _failures(_plane_with(boom))
+    assert fails.get("solver-error", 0) > 0
+
+
+def test_the_replay_command_reruns_the_scene():
+    m = registry.MODELS["ricochet"]  # an angle in degrees and a static count
+    s, _ = stress.wide_scenes(m, np.random.default_rng(4), 50)
+    i = 7
+    cmd = shlex.split(stress.replay(m, s, i, "exact"))
+    assert cmd[:3] == ["resal", "simulate", "ricochet"]
+    result = CliRunner().invoke(app, [*cmd[1:], "--json"])
+    assert result.exit_code == 0, result.output
+    got = json.loads(result.stdout)["outputs"]
+    want = paths.solve(m, stress._take(m, s, slice(i, i + 1)), "exact")
+    np.testing.assert_allclose(got["ranges"], want.ranges[0], rtol=1e-12)
+
+
+def test_markdown_report_names_failures_and_findings(small_run):
+    md = stress.to_markdown(small_run)
+    assert "Verdict: **stable**" in md
+    assert "cue-stroke / resal: momentum" in md
+    assert md.count("\n| ") >= sum(len(mod["rows"]) for mod in small_run["models"])
+
+
+def test_the_command_writes_its_report_and_refuses_bad_counts(tmp_path):
+    out = tmp_path / "stress"
+    result = CliRunner().invoke(app, ["stress", "direct-impact", "cue-stroke", "--scenes", "2000", "--ode-scenes",
+                                      "2", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    rep = json.loads((out / "stress.json").read_text(encoding="utf-8"))
+    assert [m["model"] for m in rep["models"]] == ["direct-impact", "cue-stroke"]
+    assert "cue-stroke / resal: momentum" in (out / "stress.md").read_text(encoding="utf-8")
+    for args, where in ((["--scenes", "0"], "--scenes 0"), (["--scenes", "1e9"], "--scenes 1e9"),
+                        (["--ode-scenes", "-1"], "--ode-scenes -1"), (["nope"], "model 'nope'")):
+        bad = CliRunner().invoke(app, ["stress", *args, "--out", str(tmp_path / "other")])
+        assert bad.exit_code == 2 and where in bad.stderr, (args, bad.output)
+    assert not (tmp_path / "other").exists()
