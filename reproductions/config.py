@@ -347,7 +347,7 @@ def load_experiment(path: str | Path, kinds: Mapping[str, Any]) -> Experiment:
     unknown = [m for m in modern if m not in module.MODERN]
     if unknown:
         raise root.fail(f"'modern' lists {', '.join(unknown)}, which kind '{kind}' cannot compare "
-                        f"(expected some of {', '.join(module.MODERN)})")
+                        f"(expected some of {', '.join(module.MODERN)})", root._mapping()["modern"])
     params = module.parse(root.child("params"), p.parent)
     quantities = module.quantities(params) if hasattr(module, "quantities") else module.QUANTITIES
     printed = tuple(_printed(n, quantities) for n in root.children("printed"))

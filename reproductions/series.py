@@ -114,17 +114,19 @@ def check_pendulum_trials(s: Series, M: np.ndarray, Mp: np.ndarray, sigma: float
         if sigma is not None:
             tol_p = MOMENTUM_SIGMAS * sigma * math.sqrt(2 * m * m + mp * mp)
             tol_v = MOMENTUM_SIGMAS * sigma * math.sqrt(2.0)
-            allowed = f"{MOMENTUM_SIGMAS:g} σ of the noise, σ = {sigma:g}"
+            allowed = allowed_v = f"{MOMENTUM_SIGMAS:g} σ of the noise, σ = {sigma:g}"
         else:
             tol_p, tol_v = MOMENTUM_SLACK * m * V0[i], MOMENTUM_SLACK * V0[i]
             allowed = f"{MOMENTUM_SLACK:.0%} of M V0 (give --sigma to judge by the noise)"
+            allowed_v = f"{MOMENTUM_SLACK:.0%} of V0"
         if abs(imbalance) > tol_p:
             raise InputError(s.at(i), f"the trial breaks momentum: M V0 − M V1 − M′ V1p = {imbalance:.4g} kg·m/s "
                                       f"(M = {m:g}, M′ = {mp:g}), beyond {allowed}; expected M V0 = M V1 + M′ V1p "
                                       "(signed velocities in m/s; are the masses right?)")
         if V1[i] - V1p[i] > tol_v:
             raise InputError(s.at(i), f"V1 = {V1[i]:g} exceeds V1p = {V1p[i]:g}: the striking body would pass "
-                                      f"through the struck one; expected V1 ≤ V1p (beyond {allowed.split(' (')[0]})")
+                                      f"through the struck one; expected V1 ≤ V1p (it exceeds it by more than "
+                                      f"{allowed_v})")
 
 
 def check_imprints(x: np.ndarray, where: str, t: np.ndarray | None = None, lines: Sequence[int] | None = None) -> None:

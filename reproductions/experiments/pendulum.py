@@ -76,7 +76,10 @@ def parse(node: Node, base: Path) -> Params:
     epsp_premise = a.number("epsp_premise", "a coefficient", lo=0.0, hi=1.0)
     a.done()
     node.done()
-    return Params(striker, struck, ratio, ratio_p, v0max, sigma, sigma_note, eps_paper, epsp_premise, series)
+    params = Params(striker, struck, ratio, ratio_p, v0max, sigma, sigma_note, eps_paper, epsp_premise, series)
+    if series is not None:
+        _trials(params)  # a bad file stops the run before any work
+    return params
 
 
 def _trials(p: Params) -> tuple[np.ndarray, ...]:

@@ -71,6 +71,7 @@ def parse(node: Node, base: Path) -> Params:
             raise s.fail(f"'{s.path}' must have exactly one of 'csv' (a file) or 'synthetic' (a generator)")
         if s.has("csv"):
             series = base / s.string("csv")
+            read_rebounds(series, heights=quantity == "height_ratio")  # a bad file stops the run before any work
         else:
             g = s.child("synthetic", "a mapping with n, low, high, noise")
             n = g.integer("n", "a number of trials", lo=2, hi=MAX_TRIALS)

@@ -84,7 +84,8 @@ def _synthetic(n: Node) -> Synthetic:
         nu=n.number("nu", "a yield ν", lo=0.0, hi=1.0, lo_open=True),
         f=n.number("f", "a friction coefficient", lo=0.0),
         a0=n.number("a0", "a speed in m/s", lo=0.0, lo_open=True),
-        alpha0=math.radians(n.number("alpha0_deg", "an angle in degrees", lo=0.0, hi=90.0, lo_open=True)),
+        alpha0=math.radians(n.number("alpha0_deg", "an angle in degrees", lo=0.0, hi=90.0, lo_open=True,
+                                     hi_open=True)),  # 90° is along the normal: tan α0 = ∞ in the ranges
         p0=n.number("p0", "a spin in rad/s", default=0.0),
         imprints=n.integer("imprints", "a number of imprints", lo=MIN_IMPRINTS, hi=MAX_IMPRINTS),
         noise_x=n.number("noise_x", "a standard deviation in m", lo=0.0),
@@ -115,6 +116,8 @@ def parse(node: Node, base: Path) -> Params:
             raise s.fail(f"'{s.path}' must have exactly one of 'csv' (imprint positions) or 'synthetic'")
         syn = _synthetic(s.child("synthetic")) if s.has("synthetic") else None
         csv = base / s.string("csv") if s.has("csv") else None
+        if csv is not None:
+            read_imprints(csv)  # a bad file stops the run before any work
         s.done()
         surfaces.append(Surface(sid, name, syn, csv))
     if not surfaces:
