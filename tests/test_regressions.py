@@ -44,21 +44,34 @@ def _cut_scene(V: float, roll: float, R: float) -> dict:
     return {"v": [V, 0.0, 0.0], "w": [0.0, roll * V / R, 0.0]}
 
 
-def _law6_residual(m: paths.Model, s: dict, r: spheres.SpheresImpact) -> float:
-    """|G(λ(ω1)) − ω1| / ω1: law (6) of §I evaluated with the result's own tangential impulse (n°13)."""
+def _law6(s: dict):
+    """h(ω) = G(λ(ω)) − ω of law (6) on the cloth (n°13), λ from the exact slip decay after the impulse f ω, and
+    the ω at which the slip would just stop."""
     M, Mp, k, kp, f, eps, epsp = (float(np.ravel(s[x])[0]) for x in ("M", "Mp", "k", "kp", "f", "eps", "epsp"))
     v, vp = np.ravel(s["v"]), np.ravel(s["vp"])
     mu, approach = M / Mp, v[0] - vp[0]
     s0 = spheres.contact_slip(np.asarray(s["v"]), np.asarray(s["w"]), np.asarray(s["vp"]), np.asarray(s["wp"]),
                               np.asarray(s["R"]), np.asarray(s["Rp"])).ravel()
+    a0, b0 = abs(s0[0]), abs(s0[1])
     cy, cz = (1 + k) / M + (1 + kp) / Mp, k / M + kp / Mp
+    dec = slip.SlipDecay(np.array([a0]), np.array([b0]), np.array([M * cy]), np.array([M * cz]))
+    a, b, _ = dec.at(np.array([f * approach / (1 + mu)]), np.arange(1))
+    w_c = math.hypot(float(a[0]), float(b[0]))  # the slip at the greatest compression
+
+    def h(om: float) -> float:
+        a1, b1, _ = dec.at(np.array([f * om]), np.arange(1))
+        lam = math.hypot((a0 - a1[0]) / cy, (b0 - b1[0]) / cz) / (M * om)
+        S = (1 + lam**2 * (1 + k)) * (1 + eps) + mu * (1 + lam**2 * (1 + kp)) * (1 + epsp)
+        return (2 * approach + 2 * lam * math.hypot(*s0) - 2 * lam * w_c) / S - om
+
+    return h, float(dec.total[0]) / f
+
+
+def _law6_residual(m: paths.Model, s: dict, r: spheres.SpheresImpact) -> float:
+    """|h(ω1)| / ω1 for the result's ω1."""
+    h, _ = _law6(s)
     om1 = float(np.ravel(r.omega1)[0])
-    a, b = slip.slip_decay(abs(s0[0]), abs(s0[1]), M * cy, M * cz, f * approach / (1 + mu))
-    w_c = math.hypot(float(a), float(b))  # the slip at the greatest compression
-    lam = float(np.hypot(*np.ravel(r.T))) / (M * om1)
-    S = (1 + lam**2 * (1 + k)) * (1 + eps) + mu * (1 + lam**2 * (1 + kp)) * (1 + epsp)
-    G = (2 * approach + 2 * lam * math.hypot(*s0) - 2 * lam * w_c) / S
-    return abs(G - om1) / om1
+    return abs(h(om1)) / om1
 
 
 def test_the_cloth_normal_impulse_reaches_its_fixed_point_in_the_scene_of_the_issue():
@@ -136,3 +149,58 @@ def test_a_cloth_slip_lost_in_rounding_is_no_slip_for_the_ode():
     ode, exact = paths.solve(m, s, "ode"), paths.solve(m, s, "exact")
     assert np.all(np.isfinite(ode.x_roll)) and np.all(np.isfinite(ode.t_roll))
     assert m.error(s, ode, exact).max() < 1e-12
+
+
+# ₂F₁(−½, c; c + 1; z) within 1e-5 of c = ½, by mpmath at 40 digits (the inputs are the same binary floats)
+MPMATH_NEAR_HALF = [
+    (0.500000000001, -10.0, 1.95375626853563),
+    (0.500000000001, -10000.0, 50.028991649381055),
+    (0.500000000001, -1000000000000.0, 500000.0000080043),
+    (0.500000001, -10.0, 1.9537562696941242),
+    (0.500000001, -10000.0, 50.02899169921158),
+    (0.500000001, -1000000000000.0, 500000.0005075043),
+    (0.500003, -10.0, 1.9537597474878627),
+    (0.500003, -10000.0, 50.02914129010369),
+    (0.500003, -1000000000000.0, 500001.50000300404),
+    (0.499993, -10.0, 1.953748150911242),
+    (0.499993, -10000.0, 50.028642484057436),
+    (0.499993, -1000000000000.0, 499996.4999830049),
+]
+
+
+@pytest.mark.parametrize(("c", "z", "ref"), MPMATH_NEAR_HALF)
+def test_hyp2f1_next_to_c_one_half(c, z, ref):
+    """Pfaff's form cancels as c → ½ (1e-6 off at c − ½ = 1e-12): found by `resal stress` on the cloth with k = 1
+    and a mass ratio of 4.5e10, where the slip decay's Newton then cycled at that noise."""
+    assert slip._F(np.array([c]), np.array([z]))[0] == pytest.approx(ref, rel=1e-13)
+
+
+def test_k_one_and_an_extreme_mass_ratio_on_the_cloth():
+    m = registry.MODELS["spheres-cloth"]
+    s = m.scene({"M": 3.1119737305868335e-06, "Mp": 141283.44253046787, "k": 1.0, "kp": 3.135497303569911,
+                 "v": [0.0004541830937102337, -0.00017430027772691057, 0.0],
+                 "w": [0.005288210388205903, -0.004303749022410217, -0.025524025034813578],
+                 "vp": [-0.000273200673597178, -0.00010033639903509466, 0.0],
+                 "wp": [-0.014311169110259444, 0.005004883188250265, 0.006499966536384716],
+                 "f": 0.19993690558610364, "eps": 0.9692405304231518, "epsp": 0.26621247757500444})
+    r = paths.solve(m, s, "exact")
+    assert bool(np.all(r.converged))
+    assert m.error(s, r, paths.solve(m, s, "ode")).max() < m.path("ode").accuracy
+
+
+def test_law_6_on_the_cloth_has_three_roots_next_to_the_slip_stop_boundary_for_large_f():
+    """The explained failure of `resal stress` (``stress.EXPLAINED``): f = 3.2, h = G − ω changes sign three times
+    within 1e-7 of the ω where the slip stops; the fixed point takes one of the roots, and which one may flip as
+    the scene moves (an output jump of ~2e-8 of the speed scale)."""
+    m = registry.MODELS["spheres-cloth"]
+    s = m.scene({"M": 4.91618225381749e-06, "Mp": 0.2021317000887411, "k": 0.7405650475086036,
+                 "kp": 9.420060626585483, "v": [21.216799497919787, 2.1598729873358096, 0.0],
+                 "w": [-324.0193164321235, -834.2307626563359, 165.5918880567216],
+                 "vp": [-3.677854724117022, 7.102493489882631, 0.0],
+                 "wp": [-474.0964613061153, -751.1675760870136, -744.9475552009246], "f": 3.178057422363023,
+                 "eps": 0.0, "epsp": 0.10719456003905803})
+    h, om_b = _law6(s)
+    signs = [np.sign(h(om_b * (1 + d))) for d in (-1e-7, 0.0, 1e-7, 1.0)]
+    assert signs == [1.0, -1.0, 1.0, -1.0]
+    r = paths.solve(m, s, "exact")
+    assert bool(np.all(r.converged)) and _law6_residual(m, s, r) < 1e-12

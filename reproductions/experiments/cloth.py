@@ -59,7 +59,10 @@ def checks(p: Params, seed: int) -> dict[str, float]:
         state, t_ev = reference.integrate_cloth(vx, vy, wx, wy, R, k, f, g, 2 * t1 + 0.1)
         ts = np.linspace(0.0, t1 * 0.999, 25)
         ys = np.array([state(t) for t in ts])
-        u = np.c_[ys[:, 2] - ys[:, 5] * R, ys[:, 3] + ys[:, 4] * R]
+        # the direction of the slip up to 0.9 t1, where it is still a tenth of its initial size: nearer the end the
+        # integration's error over the vanishing slip dominates (3e-9 rad at 0.999 t1, 1e-11 at 0.9 t1)
+        ud = np.array([state(t) for t in np.linspace(0.0, t1 * 0.9, 25)])
+        u = np.c_[ud[:, 2] - ud[:, 5] * R, ud[:, 3] + ud[:, 4] * R]
         ang = np.unwrap(np.arctan2(u[:, 1], u[:, 0]))
         worst["slip_direction"] = max(worst["slip_direction"], float(np.ptp(ang)))
         # the paper's frame: Oy along the slip, α the angle of the centre's velocity with Ox

@@ -27,19 +27,40 @@ NEWTON_FLOOR = 1e-9  # Pfaff's branch knows H to ~1e-12 only: a step that stops 
 # the noise of H (it cycles there: 2 of 1e6 scenes of ``make stress`` with mass ratios of 1e6)
 
 
+_DEGENERATE = 1e-5  # |c − ½| below which Pfaff's form itself fails (c − a − b → 1): 1e-6 off at 1e-12
+_NODES = 1e-4 * np.arange(-2.0, 3.0)  # interpolation nodes in c − ½ (at ½ itself scipy is exact)
+
+
+def _pfaff(c: np.ndarray, z: np.ndarray) -> np.ndarray:
+    return np.sqrt(1 - z) * hyp2f1(-0.5, 1.0, c + 1, z / (z - 1))
+
+
 def _F(c: np.ndarray, z: np.ndarray) -> np.ndarray:
     """₂F₁(−½, c; c + 1; z) for z ≤ 0. scipy's direct evaluation loses accuracy near c = ½ for z < −1 (4e-4 at
     c = 0.5000001, z = −10; inf at c = ½, z = −1e16); there Pfaff's transformation
-    ₂F₁(a, b; c; z) = (1 − z)^(−a) ₂F₁(a, c − b; c; z/(z − 1)) is accurate to 1e-11 (checked against mpmath in
-    the tests). Elsewhere the direct form is accurate to a few ulps."""
-    pfaff = (np.abs(c - 0.5) < 0.05) & (z < -1.0)
+    ₂F₁(a, b; c; z) = (1 − z)^(−a) ₂F₁(a, c − b; c; z/(z − 1)) is accurate to 1e-14, except within 1e-5 of
+    c = ½, where its own c − a − b tends to the integer 1 and scipy cancels (1e-6 off at c − ½ = 1e-12, against
+    mpmath in the tests). There F, smooth in c, is interpolated from five nodes c − ½ ∈ {0, ±1e-4, ±2e-4}, where
+    scipy is accurate (exact at ½). Elsewhere the direct form is accurate to a few ulps."""
     out = np.empty(np.broadcast_shapes(np.shape(c), np.shape(z)))
     c, z = np.broadcast_arrays(c, z)
-    d = ~pfaff
+    pfaff = (np.abs(c - 0.5) < 0.05) & (z < -1.0)
+    near = pfaff & (np.abs(c - 0.5) < _DEGENERATE)
+    pfaff &= ~near
+    d = ~pfaff & ~near
     out[d] = hyp2f1(-0.5, c[d], c[d] + 1, z[d])
     if pfaff.any():
-        zp = z[pfaff]
-        out[pfaff] = np.sqrt(1 - zp) * hyp2f1(-0.5, 1.0, c[pfaff] + 1, zp / (zp - 1))
+        out[pfaff] = _pfaff(c[pfaff], z[pfaff])
+    if near.any():
+        zn, t = z[near], c[near] - 0.5
+        acc = np.zeros(zn.shape)
+        for j, xj in enumerate(_NODES):  # Lagrange's form on the five nodes
+            w = np.ones(zn.shape)
+            for m, xm in enumerate(_NODES):
+                if m != j:
+                    w *= (t - xm) / (xj - xm)
+            acc += w * _pfaff(np.full(zn.shape, 0.5 + xj), zn)
+        out[near] = acc
     return out
 
 
