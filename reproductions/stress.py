@@ -27,6 +27,7 @@ import math
 import os
 import time
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from enum import Enum
 from pathlib import Path
 from typing import Any
@@ -65,6 +66,28 @@ class Check(str, Enum):
     ODE_DISAGREES = "ode-disagrees"
     ODE_BUDGET = "ode-budget"
     SOLVER_ERROR = "solver-error"
+
+
+@dataclass(frozen=True)
+class Explanation:
+    """A failure understood and left as it is: the scenes it covers (``applies``, per failing scene, from the scene
+    and the failure's measure) are counted as explained, with the reason, and do not fail the run."""
+
+    model: str
+    check: Check
+    applies: Callable[[dict, np.ndarray], np.ndarray]
+    reason: str
+
+
+EXPLAINED = (
+    Explanation("spheres-cloth", Check.DISCONTINUITY,
+                lambda s, v: (np.asarray(s["f"], dtype=float) >= 2.0) & (v <= 1e-7),
+                "law (6) with the friction work, on the cloth (n°13), has up to three roots near the slip-stop "
+                "boundary when f is large (≳ 3; billiard balls have f ≈ 0.03-0.06): the sliding root and the smaller "
+                "root where the slip stops lie within ~1e-8 of each other, and the fixed point may take either as the "
+                "scene moves (tests/test_regressions.py shows the three roots); taking instead the larger root "
+                "where the slip stops, as for free balls, made jumps of up to 0.6 (a fold where two roots vanish)"),
+)
 
 
 # ---- scenes ----------------------------------------------------------------------------------------------------
@@ -205,6 +228,7 @@ class _Row:
         self.m, self.name, self.kind = m, name, kind
         self.scenes = 0
         self.failures: dict[str, int] = {}
+        self.explained: dict[str, dict[str, Any]] = {}  # per check: scenes, reason, worst
         self.worst: dict[str, dict[str, Any]] = {}  # per check: ratio to tolerance, value, replay
         self.findings: dict[str, dict[str, Any]] = {}
         self.boundary_pairs = 0
@@ -215,6 +239,17 @@ class _Row:
         """Record one check over a batch: ``fail`` per scene, ``values`` its measure (tolerance ``tol``)."""
         path = path or self.name
         values = np.where(np.isfinite(values), values, np.inf)
+        for e in EXPLAINED:
+            if e.model == self.m.name and e.check is check and fail.any():
+                known = fail & np.asarray(e.applies(s, values), dtype=bool)
+                if known.any():
+                    x = self.explained.setdefault(check.value, {"scenes": 0, "max": 0.0, "reason": e.reason,
+                                                                "replay": ""})
+                    x["scenes"] += int(known.sum())
+                    i = int(np.argmax(np.where(known, values, -np.inf)))
+                    if values[i] > x["max"]:
+                        x["max"], x["replay"] = float(values[i]), replay(self.m, s, i, path)
+                    fail = fail & ~known
         if values.size:
             self.margin[check.value] = max(self.margin.get(check.value, 0.0), float(np.max(values)) / tol)
         nf = int(fail.sum())
@@ -240,6 +275,7 @@ class _Row:
     def as_dict(self) -> dict[str, Any]:
         return {"model": self.m.name, "path": self.name, "kind": self.kind, "scenes": self.scenes,
                 "boundary_pairs": self.boundary_pairs, "failures": dict(sorted(self.failures.items())),
+                "explained": dict(sorted(self.explained.items())),
                 "worst": dict(sorted(self.worst.items())),
                 "margin": {k: float(f"{v:.3g}") for k, v in sorted(self.margin.items())},
                 "findings": {k: {**v, "region": {p: list(r) for p, r in v["region"].items()}}
@@ -504,7 +540,7 @@ def to_markdown(rep: dict) -> str:
              f"{CONTINUITY_TOL:g}, ODE against auto: its declared accuracy.", "",
              "| model | path | kind | scenes | boundary pairs | failures | margin (largest / tolerance) |",
              "|---|---|---|---|---|---|---|"]
-    worst, findings = [], []
+    worst, findings, explained = [], [], []
     for mod in rep["models"]:
         for r in mod["rows"]:
             fails = ", ".join(f"{k}: {v}" for k, v in r["failures"].items()) or "none"
@@ -515,12 +551,16 @@ def to_markdown(rep: dict) -> str:
             for k, w in r["worst"].items():
                 worst.append(f"- {r['model']} / {r['path']}, {k}: {_g(w['value'])} (tolerance {_g(w['tolerance'])})"
                              f"{'; ' + w['message'] if 'message' in w else ''}\n  `{w['replay']}`")
+            for k, x in r["explained"].items():
+                explained.append(f"- {r['model']} / {r['path']}, {k}: {x['scenes']} scene(s), largest {_g(x['max'])}: "
+                                 f"{x['reason']}\n  `{x['replay']}`")
             for k, f in r["findings"].items():
                 region = ", ".join(f"{p} ∈ [{_g(a)}, {_g(b)}]" for p, (a, b) in f["region"].items())
                 findings.append(f"- {r['model']} / {r['path']}: {k} in {f['scenes']:,} of {r['scenes']:,} scenes "
                                 f"(largest {_g(f['max'])}), outside the region where the path declares itself "
                                 f"exact; region of the scenes: {region}\n  worst: `{f['replay']}`")
     lines += ["", "## Failures: the worst scene of each", "", *(worst or ["none"]), "",
+              "## Explained failures (understood, not counted)", "", *(explained or ["none"]), "",
               "## Findings: Résal's approximations outside their premises", "", *(findings or ["none"]), "",
               "## §I eq. (7) over extreme mass ratios, coefficients and speeds", "",
               "| check | value |", "|---|---|", *(f"| {k} | {v:.3g} |" for k, v in rep["eq7_sweep"].items())]
