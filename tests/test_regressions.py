@@ -204,3 +204,21 @@ def test_law_6_on_the_cloth_has_three_roots_next_to_the_slip_stop_boundary_for_l
     assert signs == [1.0, -1.0, 1.0, -1.0]
     r = paths.solve(m, s, "exact")
     assert bool(np.all(r.converged)) and _law6_residual(m, s, r) < 1e-12
+
+
+@pytest.mark.parametrize("model", ["spheres-free", "spheres-cloth"])
+def test_the_spheres_ode_path_solves_law_6_itself(model, monkeypatch):
+    """The ODE path reused the exact path's ω1, so it agreed with it and hid the unconverged §VI fixed point. It
+    now solves law (6) on its own integration: with the closed forms broken it still runs, and still agrees."""
+    m = registry.MODELS[model]
+    s = m.scene(m.sample(np.random.default_rng(8), 6))
+    exact = paths.solve(m, s, "exact")
+
+    def broken(*_args, **_kw):
+        raise AssertionError("the ODE path used a closed form")
+
+    monkeypatch.setattr(spheres, "_cloth_normal_impulse", broken)
+    monkeypatch.setattr(spheres, "slip_decay", broken)
+    ode = paths.solve(m, s, "ode")
+    assert bool(np.all(ode.converged))
+    assert m.error(s, exact, ode).max() < m.path("ode").accuracy

@@ -28,6 +28,7 @@ law is applied with λ = |T|/ξ from the exact tangential solution, iterated to 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -126,6 +127,13 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
                  else "Résal's §V eqs (5), (8), sliding assumed throughout")
         if stops.any():
             label += f"; premise fails where the slip stops ({int(stops.sum())} of {stops.size} scene(s))"
+    elif method == "ode":
+        omega1, s1, converged = _ode_impact(s0, approach, omega, M, cy, cz, f, S_eps, rtol, solver)
+        xi = M * omega1
+        label = ("ODE of the slip in the normal impulse (DOP853), normal impulse from law (6) solved on its dense "
+                 "output (Brent)")
+        T = np.stack([(s0[..., 0] - s1[..., 0]) / cy, (s0[..., 1] - s1[..., 1]) / cz], axis=-1)
+        stops = (np.hypot(s1[..., 0], s1[..., 1]) <= 1e-9 * np.maximum(s0n, 1e-300)) & (s0n > 0)
     else:
         converged = np.ones(batch, dtype=bool)
         final = None  # on the cloth: the slip decay and its last roots, to end the fixed point from a warm start
@@ -142,19 +150,15 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         else:
             omega1, converged, final = _cloth_normal_impulse(s0, s0n, approach, omega, M, cy, cz, f, S_eps)
         xi = M * omega1
-        if method == "ode":
-            s1 = _ode_slip(s0, M * cy, M * cz, f * omega1, rtol, solver)
-            label = "ODE of the slip in the normal impulse (DOP853), with the exact normal impulse"
+        if final is None:
+            a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
         else:
-            if final is None:
-                a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
-            else:
-                dec, xs = final
-                a1, b1, _ = dec.at(np.ravel(f * omega1), np.arange(xs.size), xs)
-                a1, b1 = a1.reshape(batch), b1.reshape(batch)
-            s1 = np.stack([np.sign(s0[..., 0]) * a1, np.sign(s0[..., 1]) * b1], axis=-1)
-            label = ("exact: slip decay in closed form (₂F₁), normal impulse from law (6) at a fixed point"
-                     if on_cloth else "exact: closed form, sliding or sticking (law (6) as a quadratic)")
+            dec, xs = final
+            a1, b1, _ = dec.at(np.ravel(f * omega1), np.arange(xs.size), xs)
+            a1, b1 = a1.reshape(batch), b1.reshape(batch)
+        s1 = np.stack([np.sign(s0[..., 0]) * a1, np.sign(s0[..., 1]) * b1], axis=-1)
+        label = ("exact: slip decay in closed form (₂F₁), normal impulse from law (6) at a fixed point"
+                 if on_cloth else "exact: closed form, sliding or sticking (law (6) as a quadratic)")
         T = np.stack([(s0[..., 0] - s1[..., 0]) / cy, (s0[..., 1] - s1[..., 1]) / cz], axis=-1)
         stops = (np.hypot(s1[..., 0], s1[..., 1]) <= 1e-12 * np.maximum(s0n, 1e-300)) & (s0n > 0)
     v1, w1, v1p, w1p = _apply(M, Mp, R, Rp, k, kp, v, w, vp, wp, xi, T, on_cloth)
@@ -233,28 +237,68 @@ def _cloth_normal_impulse(s0: np.ndarray, s0n: np.ndarray, approach: np.ndarray,
     return om.reshape(shape), done.reshape(shape), (dec, xs)
 
 
-def _ode_slip(s0: np.ndarray, alpha: np.ndarray, beta: np.ndarray, tau_end: np.ndarray, rtol: float = 1e-11,
-              solver: str = "DOP853") -> np.ndarray:
-    """Integrate ds = −(α s_y, β s_z)/|s| dτ over [0, τ_end] with a stop event, scene by scene."""
+def _slip_ode(y0: np.ndarray, a_: float, b_: float, tau_max: float, rtol: float, solver: str) -> Any:
+    """ds = −(α s_y, β s_z)/|s| dτ integrated over [0, τ_max] with a stop event: the slip as a function of τ
+    (the solver's dense output, zero after the stop)."""
     from scipy.integrate import solve_ivp
 
-    out = np.array(s0, dtype=float, copy=True)
-    for idx in np.ndindex(s0.shape[:-1]):
-        y0 = s0[idx]
-        scale = float(np.hypot(*y0))
-        if scale == 0 or tau_end[idx] <= 0:
+    scale = float(np.hypot(*y0))
+
+    def rhs(_t: float, y: np.ndarray) -> list[float]:
+        n = max(float(np.hypot(*y)), 1e-300)
+        return [-a_ * y[0] / n, -b_ * y[1] / n]
+
+    def stops(_t: float, y: np.ndarray, e0: np.ndarray = y0 / scale) -> float:
+        return float(y @ e0)  # the slip along its initial direction: crosses zero cleanly when it stops
+
+    stops.terminal = True
+    sol = check(solve_ivp(bounded(rhs), (0.0, tau_max), y0, method=solver, rtol=rtol, atol=1e-14 * scale,
+                          events=stops, dense_output=True))
+    end = float(sol.t[-1])
+
+    def slip_at(tau: float) -> np.ndarray:
+        return np.zeros(2) if tau >= end and sol.status == 1 else sol.sol(min(tau, end))
+
+    return slip_at
+
+
+def _law6_h(om: float, slip_at: Any, y0: np.ndarray, s0n: float, w_c: float, M: float, cy: float, cz: float,
+            f: float, D: float, A: float, B: float) -> float:
+    """h(ω) = G(λ(ω)) − ω of law (6), λ = |T|/(Mω) from the integrated slip after the impulse f ω."""
+    s = slip_at(f * om)
+    lam = math.hypot((y0[0] - s[0]) / cy, (y0[1] - s[1]) / cz) / (M * om)
+    return (2 * D + 2 * lam * s0n - 2 * lam * w_c) / (A + B * lam * lam) - om
+
+
+def _ode_impact(s0: np.ndarray, approach: np.ndarray, omega: np.ndarray, M: np.ndarray, cy: np.ndarray,
+                cz: np.ndarray, f: np.ndarray, S_eps: Any, rtol: float, solver: str
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The ODE path, scene by scene and independent of the closed forms: the slip integrated in the normal
+    impulse (one integration per scene, to the largest impulse law (6) allows), and law (6) (module docstring)
+    solved for ω1 with the slip read off the integration's dense output, by Brent's method in the bracket
+    (0, 2Δ/A + |s0|/√(AB)] of ``_cloth_normal_impulse``. Returns ω1, the slip after, and per scene whether
+    Brent converged."""
+    from scipy.optimize import brentq
+
+    A = np.broadcast_to(np.asarray(S_eps(np.zeros(np.shape(approach))), dtype=float), np.shape(approach))
+    B = np.broadcast_to(np.asarray(S_eps(np.ones(np.shape(approach))), dtype=float), np.shape(approach)) - A
+    omega1 = np.zeros(np.shape(approach))
+    s1 = np.array(s0, dtype=float, copy=True)
+    converged = np.ones(np.shape(approach), dtype=bool)
+    for idx in np.ndindex(np.shape(approach)):
+        y0 = np.asarray(s0[idx], dtype=float)
+        s0n = float(np.hypot(*y0))
+        Mi, cyi, czi, fi, Di, Ai, Bi = (float(x[idx]) for x in (M, cy, cz, f, approach, A, B))
+        if s0n == 0 or fi == 0:  # no friction impulse: law (6) with λ = 0
+            omega1[idx] = 2 * Di / Ai
             continue
-        a_, b_ = alpha[idx], beta[idx]
+        hi = (2 * Di / Ai + s0n / math.sqrt(Ai * Bi)) * (1 + 1e-12)
+        slip_at = _slip_ode(y0, Mi * cyi, Mi * czi, fi * hi, rtol, solver)
+        w_c = float(np.hypot(*slip_at(fi * float(omega[idx]))))
 
-        def rhs(_t: float, y: np.ndarray, a_: float = a_, b_: float = b_) -> list[float]:
-            n = max(float(np.hypot(*y)), 1e-300)
-            return [-a_ * y[0] / n, -b_ * y[1] / n]
-
-        def stops(_t: float, y: np.ndarray, e0: np.ndarray = y0 / scale) -> float:
-            return float(y @ e0)  # the slip along its initial direction: crosses zero cleanly when it stops
-
-        stops.terminal = True
-        sol = solve_ivp(bounded(rhs), (0.0, tau_end[idx]), y0, method=solver, rtol=rtol, atol=1e-14 * scale,
-                        events=stops)
-        out[idx] = check(sol).y[:, -1] if sol.status == 0 else 0.0  # status 1: the slip-stop event
-    return out
+        args = (slip_at, y0, s0n, w_c, Mi, cyi, czi, fi, Di, Ai, Bi)
+        om, info = brentq(_law6_h, 1e-12 * hi, hi, args=args, xtol=1e-15 * hi, rtol=1e-13, maxiter=200,
+                          full_output=True)
+        omega1[idx], converged[idx] = om, info.converged
+        s1[idx] = slip_at(fi * om)
+    return omega1, s1, converged
