@@ -19,7 +19,7 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
-from reproductions.errors import InputError, Interrupted
+from reproductions.errors import ComputationError, InputError, Interrupted
 
 # plain help (no rich markup): typer then skips its rich formatting imports, and `resal --help` stays under 0.3 s
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False, rich_markup_mode=None,
@@ -38,8 +38,9 @@ def _json(obj: Any) -> str:
 
 
 def _fail(err: InputError) -> NoReturn:
+    """One message on stderr; exit 2 for bad input, 1 for a computation that failed on valid input."""
     err_console.print(Text("error: ", style="bold red") + Text(str(err)))
-    raise typer.Exit(2)
+    raise typer.Exit(1 if isinstance(err, ComputationError) else 2)
 
 
 MAX_JOBS = 256  # `reproduce --jobs`: a pool forks all its workers at once, so a typo must not fork thousands

@@ -1,5 +1,5 @@
-"""The errors that user-facing code turns into one clear message: bad input (exit status 2) and an
-interruption by a signal (exit status 128 + the signal's number)."""
+"""The errors that user-facing code turns into one clear message: bad input (exit status 2), a computation that
+failed on valid input (exit status 1) and an interruption by a signal (exit status 128 + the signal's number)."""
 
 from __future__ import annotations
 
@@ -19,6 +19,14 @@ class InputError(Exception):
 
     def __reduce__(self) -> tuple[type, tuple[str, str]]:  # so that it crosses process boundaries intact
         return (InputError, (self.where, self.message))
+
+
+class ComputationError(InputError):
+    """Valid input on which a numerical method of resal failed (no convergence, an ODE over its budget): a defect
+    of ours for that scene, said in one message (exit status 1) with the command that shows it."""
+
+    def __reduce__(self) -> tuple[type, tuple[str, str]]:
+        return (ComputationError, (self.where, self.message))
 
 
 class Interrupted(BaseException):

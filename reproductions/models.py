@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from .config import parse_number
-from .errors import InputError
+from .errors import ComputationError, InputError
 from .mechanics import paths, registry
 
 __all__ = ["describe", "list_models", "simulate"]
@@ -129,6 +129,9 @@ def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[s
     except paths.PathError as err:
         where = f"--method {method}" if method != "auto" and "handles only" in str(err) else given
         raise InputError(where, str(err)) from None
+    except ArithmeticError as err:  # a solver failed on an admissible scene: ours to fix, said plainly
+        raise ComputationError(given, f"the {method} computation failed ({err}); this scene is valid input, so "
+                                      "this is a defect of resal: please report this command") from None
     inputs = {p.name: _plain(_cli(p, float(scene[p.name])) if p.name not in m.vectors else scene[p.name])
               for p in m.params}
     skip = {"method", "path", "regime", "label"}

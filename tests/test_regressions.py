@@ -222,3 +222,15 @@ def test_the_spheres_ode_path_solves_law_6_itself(model, monkeypatch):
     ode = paths.solve(m, s, "ode")
     assert bool(np.all(ode.converged))
     assert m.error(s, exact, ode).max() < m.path("ode").accuracy
+
+
+def test_a_solver_failure_in_simulate_is_one_message_not_a_traceback(monkeypatch):
+    """An ArithmeticError from a path (a Newton or an ODE over its budget) printed a traceback."""
+    from reproductions.mechanics import budget
+
+    monkeypatch.setattr(budget, "MAX_RHS", 5)
+    result = CliRunner().invoke(app, ["simulate", "cushion-impact", "--set", "n0=-30", "--set", "p0=20",
+                                      "--set", "j=0.2", "--set", "eps=0.3", "--method", "ode"])
+    assert result.exit_code == 1, result.output
+    assert result.stderr.startswith("error: --set n0=-30") and "defect of resal" in result.stderr
+    assert "Traceback" not in result.output and result.stdout == ""
