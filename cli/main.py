@@ -265,6 +265,17 @@ def fit(
         out_console.print(Text(f"{i['data']}: rank {i['rank']} of {len(i['parameters'])} (singular values {sv})"))
 
 
+def _known_models(models: list[str] | None) -> list[str]:
+    """The models named on the command line (none: all), each a model of the registry."""
+    from reproductions.mechanics import registry
+
+    names = list(models or [])
+    unknown = [m for m in names if m not in registry.MODELS]
+    if unknown:
+        _fail(InputError(f"model '{unknown[0]}'", f"unknown model (expected some of: {', '.join(registry.MODELS)})"))
+    return names
+
+
 @app.command()
 def bench(
     models: Annotated[list[str] | None, typer.Argument(help="models (default: all; see simulate --list)")] = None,
@@ -278,10 +289,7 @@ def bench(
     from reproductions import bench as bench_mod
     from reproductions.mechanics import registry
 
-    names = list(models or [])
-    unknown = [m for m in names if m not in registry.MODELS]
-    if unknown:
-        _fail(InputError(f"model '{unknown[0]}'", f"unknown model (expected some of: {', '.join(registry.MODELS)})"))
+    names = _known_models(models)
     total = sum(len(registry.MODELS[m].paths) + 1 for m in (names or registry.MODELS))
     with Progress(console=err_console, transient=True) as bar:
         task = bar.add_task("benchmark", total=total)
@@ -336,10 +344,7 @@ def stress(
     from reproductions import stress as stress_mod
     from reproductions.mechanics import registry
 
-    names = list(models or [])
-    unknown = [m for m in names if m not in registry.MODELS]
-    if unknown:
-        _fail(InputError(f"model '{unknown[0]}'", f"unknown model (expected some of: {', '.join(registry.MODELS)})"))
+    names = _known_models(models)
     todo = names or list(registry.MODELS)
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                   console=err_console, transient=True) as bar:

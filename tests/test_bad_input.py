@@ -10,15 +10,13 @@ Rich wraps long messages at the console width, so messages are compared with all
 from __future__ import annotations
 
 import json
-import os
 import shutil
 from pathlib import Path
 
 import pytest
 import yaml
-from typer.testing import CliRunner, Result
+from cli_helpers import assert_bad, invoke, snapshot
 
-from cli.main import app
 from reproductions import config
 from reproductions.errors import InputError
 from reproductions.experiments import KINDS, pendulum
@@ -47,40 +45,6 @@ def line_of(text: str, needle: str) -> int:
     """1-based line number of the unique occurrence of ``needle`` in ``text``."""
     assert text.count(needle) == 1, f"{needle!r} must occur exactly once"
     return text[: text.index(needle)].count("\n") + 1
-
-
-def squash(s: str) -> str:
-    return "".join(s.split())
-
-
-def invoke(*args: object) -> Result:
-    return CliRunner().invoke(app, [str(a) for a in args])
-
-
-def assert_bad(result: Result, *fragments: str) -> str:
-    """Exit 2, one ``error:`` message on stderr containing every fragment, nothing on stdout, no traceback."""
-    assert result.exit_code == 2, (result.exit_code, result.output, repr(result.exception))
-    assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
-    assert "Traceback" not in result.output
-    assert result.stdout == ""
-    err = result.stderr
-    assert err.startswith("error: "), err
-    assert err.count("error:") == 1, err
-    for f in fragments:
-        assert squash(f) in squash(err), f"{f!r} not in {err!r}"
-    return err
-
-
-def snapshot(folder: Path) -> dict[str, bytes | None]:
-    """Every file (its bytes) and folder (None) under ``folder``, hidden ones included."""
-    out: dict[str, bytes | None] = {}
-    for root, dirs, files in os.walk(folder):
-        r = Path(root)
-        for d in dirs:
-            out[str((r / d).relative_to(folder))] = None
-        for f in files:
-            out[str((r / f).relative_to(folder))] = (r / f).read_bytes()
-    return out
 
 
 def write_csv_config(tmp_path: Path, rows: str, eid: str = "csv-cushion") -> tuple[Path, Path]:

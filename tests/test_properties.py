@@ -20,6 +20,8 @@ from reproductions.mechanics import paths, registry
 from reproductions.mechanics.paths import Kind
 
 EXAMPLES = 25
+SETTINGS = settings(max_examples=EXAMPLES, deadline=None,
+                    suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
 MODELS = list(registry.MODELS)
 
 
@@ -84,8 +86,7 @@ def _fast_paths(m: paths.Model) -> list[paths.Path]:
 
 
 @pytest.mark.parametrize("name", MODELS)
-@settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.filter_too_much,
-                                                                        HealthCheck.too_slow])
+@SETTINGS
 @given(data=st.data())
 def test_exact_paths_are_finite_conserve_momentum_and_never_gain(name, data):
     m = registry.MODELS[name]
@@ -110,8 +111,7 @@ def test_exact_paths_are_finite_conserve_momentum_and_never_gain(name, data):
 
 
 @pytest.mark.parametrize("name", [n for n, m in registry.MODELS.items() if m.mirror is not None])
-@settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.filter_too_much,
-                                                                        HealthCheck.too_slow])
+@SETTINGS
 @given(data=st.data())
 def test_mirror_symmetry(name, data):
     m = registry.MODELS[name]
@@ -127,8 +127,7 @@ def test_mirror_symmetry(name, data):
 
 
 @pytest.mark.parametrize("name", MODELS)
-@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.filter_too_much,
-                                                                  HealthCheck.too_slow])
+@settings(SETTINGS, max_examples=10)
 @given(data=st.data())
 def test_auto_gives_the_numbers_of_the_path_it_names(name, data):
     m = registry.MODELS[name]
