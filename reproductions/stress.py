@@ -51,6 +51,7 @@ DEFAULT_ODE_SCENES = 150
 DEFAULT_PAIRS = 2_000
 MAX_SCENES = 50_000_000
 MAX_ODE_SCENES = 100_000
+MAX_ROUNDS = 20  # chunks drawn per chunk asked for, at most (a path that handles few scenes)
 EXACT_KINDS = (paths.Kind.CLOSED_FORM, paths.Kind.EXACT_NUMERICAL, paths.Kind.ODE)
 APPROX_KINDS = (paths.Kind.AS_PRINTED, paths.Kind.CORRECTED)
 
@@ -441,22 +442,29 @@ def stress_model(m: paths.Model, scenes: int, ode_scenes: int, pairs: int, seed:
     rng = np.random.default_rng([seed, sum(m.name.encode())])
     rows = {p.name: _Row(m, p.name, p.kind.value) for p in m.paths if p.kind is not paths.Kind.ODE}
     rows["auto"] = _Row(m, "auto", "auto")
-    drawn_total = done = 0
+    drawn_total = done = rounds = 0
     t0 = time.perf_counter()
     ode_pool: dict[str, np.ndarray] | None = None
-    while done < scenes:
-        k = min(CHUNK, scenes - done)
+    # a path that handles only part of the scenes (cushion's elementary one) gets more chunks until it too has run
+    # ``scenes`` of them; MAX_ROUNDS bounds the draws for one that would handle almost none
+    while min(r.scenes for r in rows.values()) < scenes and rounds < MAX_ROUNDS * max(1, scenes // CHUNK):
+        rounds += 1
+        k = min(CHUNK, max(scenes - done, CHUNK if done >= scenes else 1))
         s, drawn = wide_scenes(m, rng, k)
         drawn_total += drawn
         if ode_pool is None:
             ode_pool = _take(m, s, slice(0, ode_scenes))
         for name, row in rows.items():
+            if row.scenes >= scenes:
+                continue
             p = None if name == "auto" else m.path(name)
             sel = np.ones(k, dtype=bool) if p is None else np.asarray(p.handles(s), dtype=bool)
+            sel &= np.cumsum(sel) <= scenes - row.scenes  # no more than the count asked for
             sub = _take(m, s, sel)
             nsub = int(sel.sum())
             if nsub == 0:
                 continue
+            first = row.scenes == 0
             r, err, bad = _solve(m, sub, name)
             row.scenes += nsub
             if r is None:
@@ -467,11 +475,12 @@ def stress_model(m: paths.Model, scenes: int, ode_scenes: int, pairs: int, seed:
             exact_kind = p is None or p.kind in EXACT_KINDS
             here = np.ones(nsub, dtype=bool) if exact_kind else np.asarray(p.exact_when(sub), dtype=bool)
             _invariants(row, m, sub, r, here, exact_kind)
-            if exact_kind and done == 0:  # one chunk of boundary pairs per path
+            if exact_kind and first:  # one chunk of boundary pairs per path
                 _boundaries(row, m, sub, r, name, rng, pairs)
+        step = min(k, max(scenes - done, 0))
         done += k
-        if progress:
-            progress(k)
+        if progress and step:
+            progress(step)
     ode_row = _Row(m, "ode", paths.Kind.ODE.value)
     assert ode_pool is not None
     _ode(ode_row, m, ode_pool, None)

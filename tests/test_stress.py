@@ -33,7 +33,7 @@ def test_a_small_run_covers_every_model_and_path_and_finds_no_failure(small_run)
     expected |= {(m, "auto") for m in registry.MODELS}
     assert set(rows) == expected
     for key, r in rows.items():
-        assert r["scenes"] > 0, key
+        assert r["scenes"] == (3 if key[1] == "ode" else 3000), key  # a path that handles few gets more draws
         assert r["failures"] == {}, (key, r["failures"], r["worst"])
     assert small_run["failures"] == 0 and small_run["verdict"] == "stable"
     json.dumps(small_run, allow_nan=False)  # the report is strict JSON
