@@ -234,6 +234,7 @@ class _Row:
         self.findings: dict[str, dict[str, Any]] = {}
         self.boundary_pairs = 0
         self.margin: dict[str, float] = {}  # largest value / tolerance over every scene, per check
+        self.closest: dict[str, Any] = {}  # the scene nearest to failing (largest value / tolerance), any check
 
     def note(self, check: Check, values: np.ndarray, tol: float, s: dict, fail: np.ndarray,
              finding: np.ndarray | None = None, path: str | None = None) -> None:
@@ -252,7 +253,12 @@ class _Row:
                         x["max"], x["replay"] = float(values[i]), replay(self.m, s, i, path)
                     fail = fail & ~known
         if values.size:
-            self.margin[check.value] = max(self.margin.get(check.value, 0.0), float(np.max(values)) / tol)
+            i = int(np.argmax(values))
+            ratio = float(values[i]) / tol
+            self.margin[check.value] = max(self.margin.get(check.value, 0.0), ratio)
+            judged = fail if finding is None else fail | ~finding  # an approximation's finding is not a near miss
+            if judged[i] and ratio > self.closest.get("ratio", 0.0):
+                self.closest = {"check": check.value, "ratio": ratio, "replay": replay(self.m, s, i, path)}
         nf = int(fail.sum())
         if nf:
             self.failures[check.value] = self.failures.get(check.value, 0) + nf
@@ -279,6 +285,7 @@ class _Row:
                 "explained": dict(sorted(self.explained.items())),
                 "worst": dict(sorted(self.worst.items())),
                 "margin": {k: float(f"{v:.3g}") for k, v in sorted(self.margin.items())},
+                "closest": self.closest,
                 "findings": {k: {**v, "region": {p: list(r) for p, r in v["region"].items()}}
                              for k, v in sorted(self.findings.items())}}
 
@@ -568,7 +575,10 @@ def to_markdown(rep: dict) -> str:
                 findings.append(f"- {r['model']} / {r['path']}: {k} in {f['scenes']:,} of {r['scenes']:,} scenes "
                                 f"(largest {_g(f['max'])}), outside the region where the path declares itself "
                                 f"exact; region of the scenes: {region}\n  worst: `{f['replay']}`")
+    closest = [f"- {r['model']} / {r['path']}: {r['closest']['check']} at {_g(r['closest']['ratio'])} of its "
+               f"tolerance\n  `{r['closest']['replay']}`" for mod in rep["models"] for r in mod["rows"] if r["closest"]]
     lines += ["", "## Failures: the worst scene of each", "", *(worst or ["none"]), "",
+              "## The scene nearest to failing, per model and path", "", *(closest or ["none"]), "",
               "## Explained failures (understood, not counted)", "", *(explained or ["none"]), "",
               "## Findings: Résal's approximations outside their premises", "", *(findings or ["none"]), "",
               "## §I eq. (7) over extreme mass ratios, coefficients and speeds", "",
