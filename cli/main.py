@@ -11,6 +11,7 @@ import json
 import math
 import os
 import shutil
+import sys
 from pathlib import Path
 from typing import Annotated, Any, NoReturn
 
@@ -137,6 +138,7 @@ def reproduce(
                     scratch = report.make_staging(out, "figures")
                     reps = api.run_and_draw(exps, jobs, scratch, status.update)
                     for r in reps:
+                        api.checkpoint()
                         folders.append(report.write_reproduction(r, out, drawn=scratch / r.experiment.id))
                 finally:
                     if scratch is not None:
@@ -152,7 +154,7 @@ def reproduce(
                 else f"{out} left as it was")
         err_console.print(Text("error: ", style="bold red") + Text(f"interrupted ({exc.name}); {done}"),
                           soft_wrap=True)
-        raise typer.Exit(128 + exc.signum) from None
+        _exit_now(128 + exc.signum)
     if as_json:
         obj = summaries[0] if len(summaries) == 1 else summaries
         typer.echo(_json(obj))
@@ -415,7 +417,23 @@ def diff(
     out_console.print(f"same numbers ({len(g['values'])} quantities)")
 
 
+_PROCESS = {"own": False}  # True when this module's main() runs the process (not a test's CliRunner)
+
+
+def _exit_now(code: int) -> NoReturn:
+    """End an interrupted run. The cleanup (workers terminated, staging removed) has run; the process pool's
+    queue threads may still be blocked on a pipe that no terminated worker will read, and the interpreter's exit
+    would join them forever (a SIGTERM run once hung in CI): the process itself exits at once. Under a test's
+    CliRunner, an ordinary exit."""
+    if _PROCESS["own"]:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    raise typer.Exit(code)
+
+
 def main() -> None:
+    _PROCESS["own"] = True
     app()
 
 

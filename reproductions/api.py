@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import signal
+import sys
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -14,8 +15,8 @@ from .errors import InputError, Interrupted
 from .experiments import KINDS
 from .results import Reproduction
 
-__all__ = ["config_dir", "experiment_ids", "interruptible", "list_experiments", "load", "parallel_map", "run",
-           "run_and_draw"]
+__all__ = ["checkpoint", "config_dir", "experiment_ids", "interruptible", "list_experiments", "load", "parallel_map",
+           "run", "run_and_draw"]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -71,34 +72,71 @@ def interruptible() -> Iterator[None]:
         yield
         return
     owner = os.getpid()
-    raised = False
+    _RECEIVED["signum"] = None
 
     def handler(signum: int, frame: Any) -> None:
-        nonlocal raised
         if os.getpid() != owner:  # a forked worker, before _worker_init
             if signum == signal.SIGTERM:
                 signal.signal(signum, signal.SIG_DFL)
                 os.kill(os.getpid(), signum)
             return
-        if not raised:
-            raised = True
-            raise Interrupted(signum)
+        if _RECEIVED["signum"] is None:
+            _RECEIVED["signum"] = signum
+            if not _FORKING[0]:  # inside an at-fork hook the exception would be printed and dropped
+                raise Interrupted(signum)  # (there the next ``checkpoint`` raises it)
 
     # a signal ignored from the start (SIGINT of a background job, `nohup`-like wrappers) stays ignored
     sigs = [s for s in (signal.SIGINT, signal.SIGTERM) if signal.getsignal(s) is not signal.SIG_IGN]
     previous = {s: signal.signal(s, handler) for s in sigs}
     try:
         yield
+        checkpoint()  # a signal whose exception was swallowed still ends the block as an interruption
     finally:
         for s, h in previous.items():
             signal.signal(s, h)
+        _RECEIVED["signum"] = None
 
 
-def _worker_init() -> None:
+_RECEIVED: dict[str, int | None] = {"signum": None}  # the signal ``interruptible`` received, if any
+_FORKING = [False]  # True while this process forks (between the at-fork hooks, ours outermost)
+
+
+def _fork_begins() -> None:
+    _FORKING[0] = True
+
+
+def _fork_ends() -> None:
+    _FORKING[0] = False
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(before=_fork_begins, after_in_parent=_fork_ends, after_in_child=_fork_ends)
+
+
+def checkpoint() -> None:
+    """Raise ``Interrupted`` if a signal came within ``interruptible`` and its exception was not raised. Python
+    prints and drops an exception raised where it cannot propagate: a signal that landed inside the ``logging``
+    module's at-fork hook (the parent forking a worker) was lost that way, with a traceback on stderr, and the run
+    went on to the end (found by the SIGTERM test under load). So the handler does not raise while the process
+    forks, and this raises instead. Called between the steps of a run, never in cleanup code."""
+    if _RECEIVED["signum"] is not None:
+        raise Interrupted(_RECEIVED["signum"])
+
+
+def _worker_init(parent: int) -> None:
     """In each worker: SIGTERM kills at once (even inside a long numpy call), SIGINT (a Ctrl-C reaches the
-    whole process group) is left to the parent, which stops the workers itself."""
+    whole process group) is left to the parent, which stops the workers itself. On Linux the worker also dies
+    with its parent (``PR_SET_PDEATHSIG``): a signal that interrupts the parent while it forks a worker leaves
+    that worker unknown to the pool, and it would wait on the pool's queue for ever, holding the parent's
+    stderr open (a SIGTERM test hung in CI that way under load)."""
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        ctypes.CDLL(None).prctl(1, int(signal.SIGKILL))  # 1 = PR_SET_PDEATHSIG
+    if os.getppid() != parent:  # the parent died before the line above
+        os._exit(1)
 
 
 @contextmanager
@@ -109,7 +147,8 @@ def _process_pool(jobs: int) -> Iterator[Any]:
     from concurrent.futures import ProcessPoolExecutor
 
     ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
-    pool = ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_worker_init)
+    pool = ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_worker_init,
+                               initargs=(os.getpid(),))
     try:
         yield pool
     except BaseException:
@@ -160,11 +199,13 @@ def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path,
     if jobs <= 1:
         reps = []
         for i, e in enumerate(exps, 1):
+            checkpoint()
             reps.append(run(e))
             if progress:
                 progress(f"running: {i}/{len(exps)} done")
         for r in reps:
             for spec in r.figures:
+                checkpoint()
                 draw_figure((spec, scratch / r.experiment.id))
         return reps
     from concurrent.futures import FIRST_COMPLETED, wait
@@ -175,7 +216,8 @@ def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path,
         drawing = set()
         n_fig = done_fig = 0
         while running or drawing:
-            finished, _ = wait([*running, *drawing], return_when=FIRST_COMPLETED)
+            checkpoint()
+            finished, _ = wait([*running, *drawing], return_when=FIRST_COMPLETED, timeout=0.5)
             for fut in finished:
                 if fut in running:
                     i = running.pop(fut)

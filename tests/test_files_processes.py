@@ -175,3 +175,22 @@ def test_two_runs_write_identical_bytes_whatever_the_process_layout(tmp_path):
             assert _without_provenance(data) == _without_provenance(b[name]), name
         else:
             assert data == b[name], name
+
+
+def test_a_signal_during_a_fork_is_not_lost_but_raised_at_the_next_checkpoint():
+    """Raised inside logging's at-fork hook, the interruption was printed as 'Exception ignored' and dropped, and
+    the run went on to the end (the SIGTERM test failed that way under load)."""
+    from reproductions import api
+    from reproductions.errors import Interrupted
+
+    with pytest.raises(Interrupted) as info, api.interruptible():
+        api._FORKING[0] = True
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)  # lands "inside a fork": recorded, not raised
+            time.sleep(0.05)
+        finally:
+            api._FORKING[0] = False
+        api.checkpoint()
+        raise AssertionError("checkpoint did not raise")
+    assert info.value.signum == signal.SIGTERM
+    assert api._RECEIVED["signum"] is None  # reset for the next run
