@@ -240,6 +240,19 @@ class Printed:
     tolerance_rule: str
     where: str
     formula: bool = False  # a printed formula: ``computed`` is then its largest discrepancy from the reference
+    line: int | None = None  # the line of the digitised text (../shared/paper/resal-1883.md) that holds the claim
+    reason: str | None = None  # why the claim as printed differs (a code of REASONS); None: it is reproduced
+    today: str | None = None  # a symbol of the modern values standing beside the claim
+
+
+# why a claim as printed differs from what its premises give: the codes a `reason:` may take
+REASONS = {
+    "rounding": "the printed digits round a value that the premises give more precisely",
+    "ocr": "a slip of the digitised text (the row's note gives the likely original)",
+    "erratum": "a slip of the 1883 original (the row's note gives the corrected value, derived)",
+    "assumption": "an assumption of the paper's that its own premises or the exact mechanics do not support",
+    "repair": "the printed formula is wrong as it stands; a second row grades the repaired form",
+}
 
 
 @dataclass(frozen=True)
@@ -292,8 +305,13 @@ def _printed(node: Node, quantities: tuple[str, ...]) -> Printed:
     if node.has("tolerance"):
         tol = node.number("tolerance", "a relative tolerance", lo=0.0, lo_open=True)
         rule = node.string("tolerance_rule")
+    line = node.integer("line", "a line number of the digitised text", default=None, lo=1) if node.has(
+        "line") else None
+    reason = node.string("reason", choices=tuple(REASONS)) if node.has("reason") else None
+    today = node.string("today") if node.has("today") else None
     node.done()
-    return Printed(pid, computed, quantity, source, value, text, tol, rule, node.where(), formula)
+    return Printed(pid, computed, quantity, source, value, text, tol, rule, node.where(), formula, line, reason,
+                   today)
 
 
 class Kind(Protocol):

@@ -212,7 +212,10 @@ def main(argv: list[str]) -> int:
         print(json.dumps(diffs, ensure_ascii=False))
         return 1 if any(diffs.values()) else 0
     GOLDEN_DIR.mkdir(parents=True, exist_ok=True)
+    only = set(argv)  # `python -m reproductions.golden ball-ball`: regenerate only these experiments' goldens
     for eid, s in _summaries().items():
+        if only and eid not in only:
+            continue
         path = GOLDEN_DIR / f"{eid}.json"
         path.write_text(json.dumps(golden_object(s), indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
         print(f"wrote {path}")

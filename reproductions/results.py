@@ -44,6 +44,9 @@ class Row:
     tolerance_rule: str
     verdict: str
     note: str
+    line: int | None = None  # where the claim is printed: line of the digitised text
+    reason: str | None = None  # a code of ``config.REASONS`` for a row that differs
+    today: str | None = None  # a modern symbol standing beside it
 
 
 @dataclass(frozen=True)

@@ -4,6 +4,7 @@ today's values. The result types themselves live in ``reproductions.results`` (r
 from __future__ import annotations
 
 import csv
+import dataclasses
 from collections.abc import Sequence
 from importlib import resources
 
@@ -30,7 +31,13 @@ __all__ = [
 
 
 def compare(p: Printed, c: Computed) -> Row:
-    """The verdict for one printed value: reproduced within the printed digits, differs (with why), or not checkable."""
+    """The verdict for one printed value: reproduced within the printed digits, differs (with why), or not
+    checkable; with where it is printed and the config's reason code for a row that differs."""
+    row = _compare(p, c)
+    return dataclasses.replace(row, line=p.line, reason=p.reason, today=p.today)
+
+
+def _compare(p: Printed, c: Computed) -> Row:
     if p.formula and c.value is not None:
         assert p.tolerance is not None
         ok = abs(c.value) <= p.tolerance
