@@ -18,13 +18,21 @@ def rep():
 
 def test_printed_formulas_and_values_get_their_verdicts(rep):
     v = {r.id: r for r in rep.rows}
-    for rid in ("eq6", "eq7", "eq8", "eq9", "angles", "footnote"):
-        assert v[rid].verdict == "reproduced", rid
-    for rid in ("eq6_beyond", "eq8_beyond", "range"):
-        assert v[rid].verdict == "differs" and v[rid].note, rid
+    for rid in ("q_constant", "eq1", "eq2_original", "slip_direction", "eq3", "eq4_original", "eq5", "eq6", "eq7",
+                "eq7_components", "vertical_plane", "eq8", "eq9_premise", "angles_roze", "eq9", "mean_ratio",
+                "footnote"):
+        assert v[rid].verdict == "reproduced" and v[rid].reason is None, rid
+    differs = {"eq2": "ocr", "eq4": "ocr", "eq5_beyond": "assumption", "eq6_beyond": "assumption",
+               "eq7_beyond": "assumption", "vertical_plane_side_spin": "assumption", "range": "erratum",
+               "range_ratio": "ocr", "eq8_beyond": "assumption", "angles": "assumption", "eq9_beyond": "assumption",
+               "mean_ratio_spin": "assumption", "footnote_sqrt": "rounding"}
+    for rid, reason in differs.items():
+        assert v[rid].verdict == "differs" and v[rid].note and v[rid].reason == reason, rid
     assert v["range"].computed == pytest.approx(0.5, rel=1e-9)  # the printed range is half the true one
-    for rid in ("nu_smoked_marble", "nu_rough_marble", "nu_smoked_paper", "nu_fir_plank"):
-        assert v[rid].verdict == "not-checkable"
+    for rid in ("nu_smoked_marble", "nu_rough_marble", "nu_smoked_paper", "nu_fir_plank", "ligneous"):
+        assert v[rid].verdict == "not-checkable" and v[rid].reason is None
+    assert len(v) == len(rep.rows)  # ids are unique
+    assert [r.line for r in rep.rows] == sorted(r.line for r in rep.rows)  # the paper's order
 
 
 def test_nu_is_recovered_from_positions_and_times_and_f_only_with_times(rep):

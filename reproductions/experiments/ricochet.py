@@ -34,8 +34,12 @@ from .base import (
     rows_for,
 )
 
-STATIC = ("eq6_sliding", "eq6_all_regimes", "eq7_tan_sliding", "range_formula", "eq8_sliding", "eq8_all_regimes",
-          "eq9_limit", "angles_decrease", "footnote_drop_ratio")
+STATIC = ("eq1_slip", "q_constant", "eq2_as_printed", "eq2_original", "slip_direction", "eq3_frame",
+          "eq4_as_printed", "eq4_original", "eq5_sliding", "eq5_all_regimes", "eq6_sliding", "eq6_all_regimes",
+          "eq7_tan_sliding", "eq7_components_sliding", "eq7_tan_all_regimes", "vertical_plane",
+          "vertical_plane_side_spin", "range_formula", "range_ratio", "eq8_sliding", "eq8_all_regimes", "eq9_limit",
+          "eq9_premise", "eq9_beyond", "angles_decrease", "angles_decrease_roze", "mean_ratio_spinless",
+          "mean_ratio_spin", "ligneous_layer", "footnote_drop_ratio", "footnote_sqrt")
 MODERN = ("e_t",)
 MAX_SEEDS = 1000  # repetitions of the estimator comparison: 40 take about a second; 1000 pin the bias to 0.3 %
 SURFACE_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
@@ -179,35 +183,168 @@ def formula_checks(p: Params, seed: int) -> dict[str, float]:
     tan1_ref = np.abs(ref.zeta1) / np.abs(ref.chi1)
     forward = slide & (s > 0) & (ref.chi1 > 0)  # (7) takes Ox along the slip and χ1 > 0
     err7 = np.abs(tan1_7 - tan1_ref) / tan1_ref
+    # eq (7), first two lines: a1 cos α1 = a0 cos α0 − f(1 + ν) a0 sin α0, a1 sin α1 = ν a0 sin α0 (a0 = |(χ0, ζ0)|)
+    a0 = np.hypot(chi0, zeta0)
+    cos0, sin0 = np.abs(chi0) / a0, np.abs(zeta0) / a0
+    err7c = np.maximum(np.abs(a0 * cos0 - f * (1 + nu) * a0 * sin0 - s * ref.chi1),
+                       np.abs(nu * a0 * sin0 - ref.zeta1)) / np.abs(zeta0)
     # P = a² sin α cos α / g as printed, against the integrated flight (a, α leaving the plane)
     a1 = np.hypot(ref.chi1, ref.zeta1)
     al1 = np.arctan2(ref.zeta1, ref.chi1)
     P_flight, _ = reference.integrate_flight(ref.chi1, ref.zeta1, p.g)
     err_range = np.abs(a1**2 * np.sin(al1) * np.cos(al1) / p.g - P_flight) / np.abs(P_flight)
+    err_range_fixed = np.abs(2 * a1**2 * np.sin(al1) * np.cos(al1) / p.g - P_flight) / np.abs(P_flight)
     # (8) against the ratio of integrated flights: the flight that arrives (χ0, ζ0) and the next one
     P_before, _ = reference.integrate_flight(chi0, -zeta0, p.g)
     ratio_ref = P_flight / P_before
+    # the ratio as printed, a1² sin α1 cos α1 / (a0² sin α0 cos α0): the missing factor 2 cancels
+    al0 = np.arctan2(-zeta0, chi0)
+    err_ratio = np.abs(a1**2 * np.sin(al1) * np.cos(al1) / (a0**2 * np.sin(al0) * np.cos(al0)) - ratio_ref) / \
+        np.abs(ratio_ref)
+    # the same as digitised, with α for a (α1² sin α1 cos α1 / (α0² sin α0 cos α0))
+    err_ratio_digitised = np.abs(al1**2 * np.sin(al1) * np.cos(al1) / (al0**2 * np.sin(al0) * np.cos(al0))
+                                 - ratio_ref) / np.abs(ratio_ref)
     alpha0 = np.arctan(tan0)
     err8 = np.abs(nu * (1 - f * (1 + nu) * np.tan(alpha0)) - ratio_ref) / np.abs(ratio_ref)
     fwd_all = (chi0 - pR > 0)
     # (9) as the small-angle limit of the exact ratio (spinless ball)
     tiny = 1e-7
     lim9 = np.max(np.abs(plane.range_ratio_exact(tiny, f=f, nu=nu, k=k) - nu) / nu)
-    # "à plus forte raison": once f tan α is small, the next angles are smaller still (tan α1 < tan α0)
-    a_grid, f_grid, nu_grid = np.meshgrid(np.linspace(1e-3, math.atan(0.05 / 0.5), 40), np.linspace(0.01, 0.5, 40),
-                                          np.linspace(0.3, 0.9, 13), indexing="ij")
-    small = f_grid * np.tan(a_grid) <= 0.05
-    ratio_tan = nu_grid / (1 - f_grid * (1 + nu_grid) * np.tan(a_grid))
     return {
         "eq6_sliding": float(np.max(err6[slide])),
         "eq6_all_regimes": float(np.max(err6)),
         "eq7_tan_sliding": float(np.max(err7[forward])),
+        "eq7_components_sliding": float(np.max(err7c[forward])),
+        "eq7_tan_all_regimes": float(np.max(err7[(s > 0) & (ref.chi1 > 0)])),
         "range_formula": float(np.max(err_range)),
+        "range_corrected": float(np.max(err_range_fixed)),
+        "range_ratio_original": float(np.max(err_ratio[chi0 > 0])),
+        "range_ratio": float(np.max(err_ratio_digitised[chi0 > 0])),
         "eq8_sliding": float(np.max(err8[slide & fwd_all & (ref.chi1 > 0)])),
         "eq8_all_regimes": float(np.max(err8[fwd_all])),
         "eq9_limit": float(lim9),
-        "angles_decrease": float(max(0.0, np.max(ratio_tan[small]) - 1.0)),
     }
+
+
+# ---- n°8 in three dimensions: eqs (1)–(5) against the vector equations of motion -------------------------------
+def _rotate(xy: np.ndarray, theta: float) -> np.ndarray:
+    """Horizontal components in axes turned by θ (the new Ox along the direction θ)."""
+    c, s = math.cos(theta), math.sin(theta)
+    return np.array([c * xy[0] + s * xy[1], -s * xy[0] + c * xy[1]])
+
+
+def checks_3d(p: Params, seed: int, n: int = 24) -> dict[str, float]:
+    """Largest discrepancy of eqs (1)–(5) of n°8 and of n°9's plane of motion from ``plane.integrate_impact_3d`` (the
+    Newton–Euler equations in vector form) over random scenes in three dimensions: velocity (χ, η, ζ0 < 0) and
+    rotation (n, p, q) in any direction, f in [0, 0,5], ν in [0,3, 1]; all discrepancies relative to |ζ0|."""
+    rng = np.random.default_rng(seed + 8)
+    k, R = p.k, p.R
+    worst = dict.fromkeys(("eq1_slip", "q_constant", "eq2_as_printed", "eq2_original", "slip_direction", "eq3_frame",
+                           "eq4_original", "eq5_sliding", "eq5_all_regimes"), 0.0)
+    slid = stopped = 0
+    for _ in range(n):
+        v0 = np.array([rng.uniform(-3, 3), rng.uniform(-3, 3), -rng.uniform(0.1, 3.0)])
+        Rw0 = rng.uniform(-3, 3, 3)
+        f, nu = rng.uniform(0.0, 0.5), rng.uniform(0.3, 1.0)
+        z0 = abs(v0[2])
+        # (1) v_x = χ − pR, v_y = η + nR, against v + ω × (−R ẑ)
+        u = plane.slip_velocity(v0, Rw0)
+        printed1 = np.array([v0[0] - Rw0[1], v0[1] + Rw0[0]])
+        worst["eq1_slip"] = max(worst["eq1_slip"], float(np.max(np.abs(printed1 - u[:2]))) / z0)
+        # (2) as digitised and as most likely printed, against the vector rates (per unit normal impulse Z dt/M)
+        dv, dw = plane.impact_rates(v0, Rw0, k=k, f=f)
+        ux, uy = u[:2] / np.hypot(*u[:2])
+        digitised = [(-ux * f, dv[0]), (-uy * f, dv[1]), (R, dw[0]),  # line 3: M dn/dt = Z, i.e. d(nR)/dπ = R
+                     (-ux * f * k, dw[0]), (uy * f * k, dw[1])]  # lines 4–5 with v_x and v_y swapped
+        original = [(-ux * f, dv[0]), (-uy * f, dv[1]), (1.0, dv[2]), (-uy * f * k, dw[0]), (ux * f * k, dw[1])]
+        worst["eq2_as_printed"] = max(worst["eq2_as_printed"], max(abs(a - b) for a, b in digitised))
+        worst["eq2_original"] = max(worst["eq2_original"], max(abs(a - b) for a, b in original))
+        # (4) as most likely printed: in axes along the slip, dχ/dπ = −f, dζ/dπ = 1, (R/k) d(p)/dπ · R = f
+        th = math.atan2(u[1], u[0])
+        dvr, dwr = _rotate(dv[:2], th), _rotate(dw[:2], th)
+        worst["eq4_original"] = max(worst["eq4_original"], abs(dvr[0] + f), abs(dv[2] - 1.0), abs(dwr[1] / k - f),
+                                    abs(dvr[1]), abs(dwr[0]))
+        # the impact itself
+        out = plane.integrate_impact_3d(v0, Rw0, k=k, f=f, nu=nu)
+        no_q = plane.integrate_impact_3d(v0, Rw0 * np.array([1, 1, 0]), k=k, f=f, nu=nu)
+        worst["q_constant"] = max(worst["q_constant"], abs(out.Rw1[2] - Rw0[2]) / z0,
+                                  float(np.max(np.abs(out.v1 - no_q.v1))) / z0,
+                                  float(np.max(np.abs(out.Rw1[:2] - no_q.Rw1[:2]))) / z0)
+        worst["slip_direction"] = max(worst["slip_direction"], out.turn)
+        # (3) and (5) in axes along the initial slip
+        chi0, eta0 = _rotate(v0[:2], th)
+        n0R, p0R = _rotate(Rw0[:2], th)
+        chi1, eta1 = _rotate(out.v1[:2], th)
+        n1R, p1R = _rotate(out.Rw1[:2], th)
+        worst["eq3_frame"] = max(worst["eq3_frame"], abs(eta1 - eta0) / z0, abs(n1R - n0R) / z0)
+        dz = out.v1[2] - v0[2]
+        err5 = max(abs(chi1 - (chi0 - f * dz)), abs(p1R - (p0R + f * k * dz))) / z0
+        worst["eq5_all_regimes"] = max(worst["eq5_all_regimes"], err5)
+        if math.isnan(out.stopped_at):
+            slid += 1
+            worst["eq5_sliding"] = max(worst["eq5_sliding"], err5)
+        else:
+            stopped += 1
+    assert slid and stopped, "the scenes must exercise both regimes"
+    return worst
+
+
+def vertical_plane(p: Params, seed: int, side_spin: bool, n: int = 8) -> float:
+    """n°9: launched with η = 0 in axes along the slip (then n = 0 too: v_y = η + nR = 0), the centre stays in one
+    vertical plane; with a rotation n about the line of flight (η = 0 but v_y = nR ≠ 0) it does not. Largest
+    sideways distance of the imprints from the launch plane, relative to the distance covered, over 8 ricochets."""
+    rng = np.random.default_rng(seed + 9)
+    worst = 0.0
+    for _ in range(n):
+        a0, alpha0 = rng.uniform(1.0, 4.0), rng.uniform(0.1, 1.2)
+        f, nu = rng.uniform(0.05, 0.5), rng.uniform(0.5, 0.95)
+        pR = rng.uniform(-1.0, 1.0) * a0
+        nR = rng.uniform(0.2, 1.0) * a0 * rng.choice([-1, 1]) if side_spin else 0.0
+        pos, _ = plane.ricochet_3d([a0 * math.cos(alpha0), 0.0, -a0 * math.sin(alpha0)], [nR, pR, 0.0], k=p.k, f=f,
+                                   nu=nu, g=p.g, n=6)
+        worst = max(worst, float(np.max(np.abs(pos[:, 1]))) / float(np.hypot(*pos[-1])))
+    return worst
+
+
+# ---- n°9–10: the premise of (9), the angles of the following ricochets, Rozé's means ----------------------------
+NU_HARD = (0.5, 0.9)  # ν of an ivory ball on hard bodies, the range sampled for n°10's claims
+IMPRINTS = 12  # n°10: « empreintes dont le nombre s'est élevé jusqu'à 12 »
+
+
+def premise_9(p: Params) -> tuple[float, float, float]:
+    """(largest relative error of (9) per unit of the neglected f tan α0 where f tan α0 ≤ 0,05; the f tan α0 that
+    keeps (9) within 0,5 % at ν = 0,8; largest relative error of (9) for α0 ≤ 60°, f ≤ 0,5, ν in [0,3, 1])."""
+    a, f, nu = np.meshgrid(np.radians(np.linspace(0.05, 60, 240)), np.linspace(0.005, 0.5, 100),
+                           np.linspace(0.3, 1.0, 15), indexing="ij")
+    u = f * np.tan(a)
+    err = np.abs(plane.range_ratio_small_angle(nu) - plane.range_ratio_exact(a, f=f, nu=nu, k=p.k)) / \
+        plane.range_ratio_exact(a, f=f, nu=nu, k=p.k)
+    small = u <= 0.05
+    # (9) within 0,5 % at ν = 0,8 while sliding: u(1 + ν)/(1 − u(1 + ν)) = 0,005
+    u_two_digits = 0.005 / 1.005 / 1.8
+    return float(np.max(err[small] / u[small])), u_two_digits, float(np.max(err))
+
+
+def angles_claim(nu_range: tuple[float, float]) -> float:
+    """Largest tan α1/tan α0 − 1 (exact impacts: the slip may stop) where f tan α0 ≤ 0,05, over ν in the range."""
+    a, f, nu = np.meshgrid(np.linspace(1e-3, math.atan(0.05 / 0.01), 60), np.linspace(0.01, 0.5, 40),
+                           np.linspace(*nu_range, 21), indexing="ij")
+    small = f * np.tan(a) <= 0.05
+    out = plane.plane_impact(np.cos(a), -np.sin(a), 0.0, R=1.0, k=2.5, f=f, nu=nu)
+    ratio = (out.zeta1 / out.chi1) / np.tan(a)
+    return float(max(0.0, np.max(ratio[small]) - 1.0))
+
+
+def mean_ratio_bias(p: Params, spin: float) -> float:
+    """Largest relative bias of Rozé's estimate, the mean of the ratios of consecutive distances between 12
+    imprints, against ν, over launches α0 in [1°, 60°], f in [0,01, 0,5], ν in NU_HARD, and a spin before the first
+    impact p0R in [−spin, spin]·a0 (noise-free, exact impacts)."""
+    spins = np.linspace(-spin, spin, 5) if spin else np.array([0.0])
+    a, f, nu, s = np.meshgrid(np.radians(np.linspace(1, 60, 60)), np.linspace(0.01, 0.5, 50),
+                              np.linspace(*NU_HARD, 9), spins, indexing="ij")
+    r = plane.ricochet(1.0, a, s, R=1.0, k=p.k, f=f, nu=nu, g=p.g, n=IMPRINTS - 1)
+    ratios = r.ranges[..., 1:] / r.ranges[..., :-1]
+    return float(np.max(np.abs(ratios.mean(axis=-1) - nu) / nu))
 
 
 # ---- the experiment -----------------------------------------------------------------------------------------
@@ -216,21 +353,93 @@ def run(exp: Experiment) -> Reproduction:
     checks = formula_checks(p, exp.seed)
     how = "largest relative discrepancy from the integrated impact/flight over 24 random scenes"
     computed: dict[str, Computed] = {k: Computed(v, how) for k, v in checks.items()}
+    c3 = checks_3d(p, exp.seed)
+    how3 = "largest discrepancy from the vector equations of motion (Newton–Euler, integrated in three dimensions) " \
+        "over 24 random scenes, relative to |ζ0|"
+    computed.update({key: Computed(v, how3) for key, v in c3.items()})
+    computed["eq2_as_printed"] = Computed(c3["eq2_as_printed"], how3, lambda _p: (
+        f"as digitised, the third of (2) reads M dn/dt = Z and the last two swap v_x and v_y (dn/dt with v_x, dp/dt "
+        f"with v_y): off by up to {c3['eq2_as_printed']:.3g} per unit impulse. The original most likely printed "
+        "M dζ/dt = Z, (MR²/k) dn/dt = −(v_y/v) fZR, (MR²/k) dp/dt = (v_x/v) fZR, as §II's (2) (line 266) and as "
+        "(3)–(4) need: row eq2_original"))
+    computed["eq4_as_printed"] = Computed(1.0, (
+        "read literally, M dx/dt = −fZ says Mχ = −fZ: at the first instant of contact Z = 0 while χ0 ≠ 0 (relative "
+        "discrepancy 1); likewise M dz/dt = Z"), lambda _p: (
+        "as digitised, (4) reads M dx/dt = −fZ, M dz/dt = Z (position rates against forces: not homogeneous); the "
+        "original most likely printed M dχ/dt = −fZ, M dζ/dt = Z, which the vector equations give exactly: row "
+        "eq4_original"))
+    computed["eq5_all_regimes"] = Computed(c3["eq5_all_regimes"], how3, lambda _p: (
+        f"(5) integrates (4), i.e. assumes the contact slides during the whole impact; where the slip stops "
+        f"(|v_x0| < f(1 + k)(1 + ν)|ζ0|) the contact then rolls without friction and (5) overshoots by up to "
+        f"{c3['eq5_all_regimes']:.3g} |ζ0|"))
     computed["eq6_all_regimes"] = Computed(checks["eq6_all_regimes"], how, lambda _p: (
         f"eqs (6) assume the slip lasts the whole impact; where it stops (|χ0 − p0R| < f(1 + k)(1 + ν)|ζ0|) the "
         f"contact then rolls and (6) overshoots: largest error {checks['eq6_all_regimes']:.3g} |ζ0|"))
+    computed["eq7_tan_all_regimes"] = Computed(checks["eq7_tan_all_regimes"], how, lambda _p: (
+        f"the third of (7) follows from the first two, which assume the slip lasts the whole impact; where it stops "
+        f"the ball leaves rolling, tan α1 = ν(1 + k) tan α0 / k without f, and (7) errs by up to "
+        f"{checks['eq7_tan_all_regimes']:.3g} (relative)"))
+    vp = vertical_plane(p, exp.seed, side_spin=False)
+    vps = vertical_plane(p, exp.seed, side_spin=True)
+    how_vp = "largest sideways distance of 6 imprints from the launch plane over the distance covered, 8 random " \
+        "launches with spin p about the horizontal normal to the flight, integrated in three dimensions"
+    computed["vertical_plane"] = Computed(vp, how_vp)
+    computed["vertical_plane_side_spin"] = Computed(vps, how_vp + ", with a rotation n about the line of flight",
+                                                    lambda _p: (
+        f"η = 0 keeps the centre in one plane only if the slip is along the flight too, i.e. n = 0 (v_y = η + nR); "
+        f"read in n°8's axes (Ox along the slip) η = 0 implies it, but a ball spun about its line of flight "
+        f"(nR up to a0) drifts sideways at every impact: up to {vps:.3g} of the distance covered"))
     computed["range_formula"] = Computed(checks["range_formula"], how, lambda _p: (
-        "the range of a parabolic flight is 2a² sin α cos α / g; the printed a² sin α cos α / g lacks the factor 2 "
-        "(a slip of the original or of the transcription); the ratio (8) is unaffected, the factor cancels"))
+        "the range of a parabolic flight is 2a² sin α cos α / g (= a² sin 2α / g): the printed a² sin α cos α / g "
+        "lacks the factor 2 in P0, P1 and their ratio alike, a slip of the 1883 original (the ratio (8) is "
+        f"unaffected, the factor cancels); with it the integrated flight agrees to {checks['range_corrected']:.1e}. "
+        "The digitised α0² for a0² (also 'α0, α0' for 'a0, α0' above it) is an OCR slip"))
+    computed["range_ratio"] = Computed(checks["range_ratio"], how, lambda _p: (
+        "as digitised the ratio reads α1² sin α1 cos α1 / (α0² sin α0 cos α0), the angles α for the speeds a: an "
+        "OCR slip. The original most likely printed a1² sin α1 cos α1 / (a0² sin α0 cos α0), right (the factor 2 "
+        f"missing from P0 and P1 cancels): it agrees with the integrated flights to {checks['range_ratio_original']:.1e}"))
     computed["eq8_all_regimes"] = Computed(checks["eq8_all_regimes"], how, lambda _p: (
         f"(8) is exact while the contact slides; where the slip stops during an impact the exact ratio is "
         f"ν(kχ0 + p0R)/((1 + k)χ0) and (8) errs by up to {checks['eq8_all_regimes']:.0%} (see the error map)"))
-    computed["angles_decrease"] = Computed(checks["angles_decrease"], (
-        "largest tan α1/tan α0 − 1 where f tan α0 ≤ 0,05, for ν in [0,3; 0,9] (Rozé's 0,63–0,85): the angles do "
-        "decrease. By the third of eqs (7) the exact condition is f(1 + ν) tan α0 < 1 − ν: it holds because ν < 1, "
-        "and fails for ν close to 1 however small f tan α0 is"))
+    per_u, u2, beyond9 = premise_9(p)
+    computed["eq9_premise"] = Computed(per_u, (
+        f"largest relative error of (9) against the exact ratio, per unit of the neglected f tan α0, where "
+        f"f tan α0 ≤ 0,05 (ν in [0,3, 1], no spin): (9) errs by (1 + ν) f tan α0/(1 − (1 + ν) f tan α0) while the "
+        f"contact slides, of the order of the neglected quantity as the premise says, but up to twice it: to hold "
+        f"to Rozé's two digits (0,5 % at ν = 0,8) it needs f tan α0 ≤ {u2:.2g}, α0 ≤ "
+        f"{math.degrees(math.atan(u2 / 0.2)):.1f}° for f = 0,2"))
+    computed["eq9_beyond"] = Computed(beyond9, "largest relative error of (9) for α0 ≤ 60°, f ≤ 0,5, ν in [0,3, 1]",
+                                      lambda _p: (
+        f"beyond its premise (9) errs by up to {beyond9:.0%}: where the slip stops in the impact the ball leaves "
+        "rolling and P1/P0 = νk/(1 + k). Once the ball arrives rolling (v_x = 0), (9) is exact at any angle: the "
+        "impact needs no friction"))
+    ang = angles_claim((0.3, 1.0))
+    computed["angles_decrease"] = Computed(ang, "largest tan α1/tan α0 − 1 (exact impacts) where f tan α0 ≤ 0,05, "
+                                                "for ν in [0,3, 1]", lambda _p: (
+        f"by the third of (7), tan α1 < tan α0 iff f(1 + ν) tan α0 < 1 − ν: f tan α0 must be small against 1 − ν, "
+        f"not against 1; for ν close to 1 the angles grow (tan α1/tan α0 − 1 up to {ang:.3g} where f tan α0 ≤ 0,05), "
+        "however small f tan α0 is"))
+    computed["angles_decrease_roze"] = Computed(angles_claim(NU_HARD), (
+        f"largest tan α1/tan α0 − 1 (exact impacts) where f tan α0 ≤ 0,05, for ν in [{NU_HARD[0]:g}, {NU_HARD[1]:g}] "
+        "(the range of Rozé's surfaces): the angles decrease"))
+    how_mr = (f"largest relative bias of the mean ratio of consecutive distances between {IMPRINTS} imprints "
+              f"against ν, noise-free exact ricochets, α0 in [1°, 60°], f in [0,01, 0,5], ν in "
+              f"[{NU_HARD[0]:g}, {NU_HARD[1]:g}]")
+    computed["mean_ratio_spinless"] = Computed(mean_ratio_bias(p, 0.0), how_mr + ", thrown without spin: the "
+                                               "slip stops within a few impacts, after which each ratio is ν exactly")
+    mrs = mean_ratio_bias(p, 0.5)
+    computed["mean_ratio_spin"] = Computed(mrs, how_mr + ", thrown with a spin p0R in [−0,5, 0,5] a0", lambda _p: (
+        f"a ball thrown with back spin keeps sliding over many impacts, each lowering the ratio below ν: the mean "
+        f"errs by up to {mrs:.0%}; n°10 does not say how Rozé threw the ball"))
+    computed["ligneous_layer"] = Computed(None, (
+        "resal has no model of a plane made of a covering sheet on a different body: the inference rests on Rozé's "
+        "figures alone (paper on marble 0,65, fir 0,63, bare marble 0,80–0,85), which are not reproducible without "
+        "his series"))
     drop_ratio = math.sqrt(p.drop_height_ratio)
     computed["footnote_drop_ratio"] = Computed(drop_ratio, "√ of n°5's rebound height ratio on marble")
+    computed["footnote_sqrt"] = Computed(drop_ratio, "√ of n°5's rebound height ratio on marble", lambda _p: (
+        f"√(2/3) = {drop_ratio:.4f}, which rounds to 0,82; the printed 0,81 truncates it (both give 0,8 at one "
+        "digit)"))
 
     fits: list[FitRow] = []
     ident: list[dict] = []

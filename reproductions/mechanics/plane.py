@@ -205,3 +205,93 @@ def spinless_launch(A: ArrayLike, u: ArrayLike, g: ArrayLike, alpha0: ArrayLike)
     """
     A, u, g, alpha0 = _arrays(A, u, g, alpha0)
     return u / np.tan(alpha0), np.sqrt(g * A / np.sin(2 * alpha0))
+
+
+# ---- §III n°8 in three dimensions: the vector equations of motion, independent of eqs (1)–(7) -----------------
+# The contact point is at r = −R ẑ from the centre (z normal to the plane, outward, §II n°7). With the velocity v of
+# the centre and Rω (ω the rotation), the slip of the contact point is u = v + ω × r; per unit normal impulse
+# π = (1/M)∫Z dt, Newton and Euler give dv/dπ = ẑ − f û and d(Rω)/dπ = (k/R) r × (−f û) = k f ẑ × û while the
+# contact slides (û the unit horizontal slip; moment of inertia M R²/k). Nothing of the paper's component
+# equations is used: comparing with them checks (1)–(5).
+@dataclass(frozen=True)
+class Impact3D:
+    """A sphere–plane impact integrated in three dimensions (``integrate_impact_3d``)."""
+
+    v1: np.ndarray  # velocity of the centre after the impact, (χ, η, ζ)
+    Rw1: np.ndarray  # R times the rotation after the impact, (nR, pR, qR)
+    turn: float  # largest sine of the angle between the slip and its initial direction while it slides
+    stopped_at: float  # fraction of the normal impulse at which the slip stopped (nan: it slid throughout)
+
+
+def slip_velocity(v: ArrayLike, Rw: ArrayLike) -> np.ndarray:
+    """Velocity of the contact point, v + ω × (−R ẑ), from the vector product (§III n°8; the check of eq. 1)."""
+    v, Rw = _arrays(v, Rw)
+    return v + np.cross(Rw, np.broadcast_to([0.0, 0.0, -1.0], np.shape(Rw)))
+
+
+def impact_rates(v: ArrayLike, Rw: ArrayLike, *, k: float, f: float) -> tuple[np.ndarray, np.ndarray]:
+    """(dv/dπ, d(Rω)/dπ) while the contact slides, from Newton–Euler in vector form (the check of eqs 2 and 4)."""
+    u = slip_velocity(v, Rw)
+    uh = u * np.array([1.0, 1.0, 0.0])
+    unit = uh / np.linalg.norm(uh, axis=-1, keepdims=True)
+    z = np.broadcast_to([0.0, 0.0, 1.0], np.shape(unit))
+    return z - f * unit, k * f * np.cross(z, unit)
+
+
+def integrate_impact_3d(v0: ArrayLike, Rw0: ArrayLike, *, k: float, f: float, nu: float, rtol: float = 1e-11,
+                        samples: int = 64) -> Impact3D:
+    """One impact of a sphere on a fixed plane in three dimensions, integrated in the normal impulse (§III n°8).
+
+    The slip is stopped by an event on its projection on the initial direction (it crosses zero cleanly); from there
+    the contact rolls and needs no friction, so only ζ still changes. ζ0 = v0[2] < 0; ζ1 = −ν ζ0 (n°8's ν).
+    """
+    from scipy.integrate import solve_ivp
+
+    from .budget import bounded, check
+
+    v0, Rw0 = (np.array(a, dtype=float) for a in _arrays(v0, Rw0))
+    end = (1.0 + nu) * abs(v0[2])
+    u0 = slip_velocity(v0, Rw0)[:2]
+    scale = max(float(np.max(np.abs(np.concatenate([v0, Rw0])))), abs(v0[2]))
+    if f == 0.0 or end == 0.0 or np.hypot(*u0) <= 1e-14 * scale:  # no slip, or one lost in the rounding of v + Rω
+        return Impact3D(v0 + np.array([0.0, 0.0, end]), Rw0, 0.0, float("nan"))
+    e0 = u0 / np.linalg.norm(u0)
+
+    def rhs(_pi: float, y: np.ndarray) -> np.ndarray:
+        dv, dw = impact_rates(y[:3], y[3:], k=k, f=f)
+        return np.concatenate([dv, dw])
+
+    def stops(_pi: float, y: np.ndarray) -> float:
+        return float(slip_velocity(y[:3], y[3:])[:2] @ e0)
+
+    stops.terminal = True
+    stops.direction = -1
+    sol = check(solve_ivp(bounded(rhs), (0.0, end), np.concatenate([v0, Rw0]), events=stops, rtol=rtol,
+                          atol=rtol * scale, method="DOP853", dense_output=True))
+    stop = float(sol.t_events[0][0]) if sol.status == 1 else end
+    ts = np.linspace(0.0, 0.9 * stop if sol.status == 1 else stop, samples)  # the slip's direction while it lasts
+    ys = sol.sol(ts).T
+    uh = slip_velocity(ys[:, :3], ys[:, 3:])[:, :2]
+    turn = float(np.max(np.abs(uh[:, 0] * e0[1] - uh[:, 1] * e0[0]) / np.linalg.norm(uh, axis=1)))
+    y = sol.y_events[0][0] if sol.status == 1 else sol.y[:, -1]
+    v1, Rw1 = y[:3].copy(), y[3:].copy()
+    if sol.status == 1:
+        v1[2] = v0[2] + end
+    return Impact3D(v1, Rw1, turn, float(stop / end) if sol.status == 1 else float("nan"))
+
+
+def ricochet_3d(v0: ArrayLike, Rw0: ArrayLike, *, k: float, f: float, nu: float, g: float, n: int,
+                rtol: float = 1e-11) -> tuple[np.ndarray, np.ndarray]:
+    """n impacts and flights in three dimensions (§III n°9): the horizontal positions of the n + 1 imprints (first
+    at the origin) and the velocity after each impact. A flight keeps the horizontal velocity and the rotation (no
+    air) and returns the centre to its height after 2ζ/g."""
+    v, Rw = (np.array(a, dtype=float) for a in _arrays(v0, Rw0))
+    pos = [np.zeros(2)]
+    vel = []
+    for _ in range(n):
+        out = integrate_impact_3d(v, Rw, k=k, f=f, nu=nu, rtol=rtol)
+        v, Rw = out.v1, out.Rw1
+        vel.append(v.copy())
+        pos.append(pos[-1] + v[:2] * 2.0 * v[2] / g)
+        v = v * np.array([1.0, 1.0, -1.0])
+    return np.array(pos), np.array(vel)
