@@ -85,19 +85,43 @@ def list_cmd() -> None:
 
 
 def _render(s: dict[str, Any]) -> None:
-    from reproductions.report import HEADERS
+    """One experiment's full table (every row) and its fits."""
+    from reproductions.report import HEADERS, row_cells
 
     t = Table(title=f"{s['experiment']}: {s['title']}", show_lines=True, title_justify="left")
     for h in HEADERS:
         t.add_column(h, overflow="fold", max_width=60 if h == "note" else None)
     for r in s["rows"]:
-        rel = "—" if r["rel_diff"] is None else f"{r['rel_diff']:+.2%}"
-        comp = "—" if r["computed"] is None else f"{r['computed']:.6g}"
-        t.add_row(Text(r["quantity"]), Text(r["source"]), Text(r["printed_text"]), comp, rel,
-                  Text(r["verdict"], style=VERDICT_STYLE[r["verdict"]]), Text(r["note"]))
+        t.add_row(*(Text(c, style=VERDICT_STYLE.get(r["verdict"], "")) if h == "verdict" else Text(c)
+                    for h, c in zip(HEADERS, row_cells(r), strict=True)))
     out_console.print(t)
     if s["fits"]:
         out_console.print(_fits_table(s["fits"], "fits"))
+
+
+def _render_summary(summaries: list[dict[str, Any]], folders: list[Path]) -> None:
+    """Several experiments: one line each (its verdict counts and its folder), then the totals with the reasons
+    of the differing rows. Lines are not folded, so that they stay greppable."""
+    from reproductions.report import VERDICTS, verdict_counts
+
+    width = max([5, *(len(s["experiment"]) for s in summaries)])
+
+    def counts_text(rows: list[dict[str, Any]]) -> Text:
+        counts, _ = verdict_counts(rows)
+        text = Text()
+        for v in VERDICTS:
+            text.append(f"{counts[v]:>4} ", style=VERDICT_STYLE[v] if counts[v] else "")
+            text.append(f"{v}  ")
+        return text
+
+    for s, folder in zip(summaries, folders, strict=True):
+        out_console.print(Text(f"{s['experiment']:<{width}} ") + counts_text(s["rows"]) + Text(str(folder)),
+                          soft_wrap=True, highlight=False)
+    rows = [r for s in summaries for r in s["rows"]]
+    _, why = verdict_counts(rows)
+    reasons = ("; differing: " + ", ".join(f"{k} {n}" for k, n in why.items())) if why else ""
+    out_console.print(Text(f"{'total':<{width}} ", style="bold") + counts_text(rows) +
+                      Text(f"({len(rows)} rows{reasons})"), soft_wrap=True, highlight=False)
 
 
 @app.command()
@@ -108,8 +132,11 @@ def reproduce(
     out: Annotated[Path, typer.Option("--out", help="results folder", parser=_out_folder)] = Path("results"),
     jobs: Annotated[int | None, typer.Option(help=f"processes, 1 to {MAX_JOBS} (default: one per core)",
                                              parser=_jobs)] = None,
+    verbose: Annotated[bool, typer.Option("--verbose", "-v", help="print every experiment's full table (one "
+                                                                  "experiment always does)")] = False,
 ) -> None:
-    """Run experiments, compare every printed value, write tables and figures into OUT/<experiment>/."""
+    """Run experiments, compare every printed value, write tables and figures into OUT/<experiment>/ and the
+    paper's index, table and report.pdf into OUT. One experiment prints its full table; several, a summary."""
     from reproductions import api, report
 
     folders: list[Path] = []
@@ -159,9 +186,13 @@ def reproduce(
         obj = summaries[0] if len(summaries) == 1 else summaries
         typer.echo(_json(obj))
         return
-    for s in summaries:
-        _render(s)
-    err_console.print(f"wrote {len(summaries)} experiment(s) and {out / 'index.md'}")
+    if verbose or len(summaries) == 1:
+        for s in summaries:
+            _render(s)
+    else:
+        _render_summary(summaries, folders)
+    err_console.print(f"wrote {len(summaries)} experiment(s), {out / 'index.md'}, "
+                      f"{out / 'paper-table'}.{{md,csv,tex}} and {out / 'report.pdf'}", soft_wrap=True)
 
 
 @app.command()

@@ -11,8 +11,10 @@ stamps or software versions.
 from __future__ import annotations
 
 import csv
+import functools
 import hashlib
 import io
+import itertools
 import json
 import math
 import os
@@ -23,20 +25,23 @@ import shutil
 import signal
 import socket
 import subprocess
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import asdict
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 from . import __version__
+from .config import REASONS
 from .errors import InputError
 from .results import FigureSpec, Reproduction
 
-__all__ = ["clean_stale", "make_staging", "provenance", "staging_name", "summary", "write_index",
+__all__ = ["clean_stale", "index_md", "make_staging", "paper_rows", "parse_source", "provenance", "report_pdf",
+           "row_cells", "staging_name", "summary", "today_value", "verdict_counts", "write_index",
            "write_reproduction"]
 
-HEADERS = ("quantity", "§ / eq.", "printed", "computed", "rel. diff", "verdict", "note")
+HEADERS = ("quantity", "§ / eq.", "line", "printed", "computed", "rel. diff", "verdict", "reason", "note")
+_TEX_COLS = 8  # the LaTeX table leaves out the note
 
 
 def provenance(rep: Reproduction) -> dict[str, Any]:
@@ -99,9 +104,9 @@ def _rel(v: float | None) -> str:
     return "—" if v is None else f"{v:+.2%}"
 
 
-def _row_cells(r: dict[str, Any]) -> list[str]:
-    return [r["quantity"], r["source"], f"{r['printed_text']}", _fmt(r["computed"]), _rel(r["rel_diff"]),
-            r["verdict"], r["note"]]
+def row_cells(r: dict[str, Any]) -> list[str]:
+    return [r["quantity"], r["source"], _fmt(r.get("line")), f"{r['printed_text']}", _fmt(r["computed"]),
+            _rel(r["rel_diff"]), r["verdict"], r.get("reason") or "", r["note"]]
 
 
 def _fit_cells(f: dict[str, Any]) -> list[str]:
@@ -129,7 +134,7 @@ def table_md(s: dict[str, Any]) -> str:
     if s["data_note"]:
         out.append(f"Data: {s['data_note']}\n")
     out.append("## Printed values\n")
-    out.append(_md_table(HEADERS, (_row_cells(r) for r in s["rows"])))
+    out.append(_md_table(HEADERS, (row_cells(r) for r in s["rows"])))
     if s["fits"]:
         out.append("\n## Fits\n")
         out.append(_md_table(("parameter", "value", "std. error", "95 % interval", "identifiable", "note"),
@@ -165,14 +170,18 @@ def table_md(s: dict[str, Any]) -> str:
     return "\n".join(out)
 
 
+def _csv_cell(v: Any) -> str:
+    return "" if v is None else (repr(v) if isinstance(v, float) else str(v))
+
+
 def table_csv(s: dict[str, Any]) -> str:
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     cols = ["id", "quantity", "source", "printed", "printed_text", "computed", "rel_diff", "tolerance", "verdict",
-            "note"]
+            "note", "line", "reason", "today"]
     w.writerow(cols)
     for r in s["rows"]:
-        w.writerow(["" if r[c] is None else (repr(r[c]) if isinstance(r[c], float) else r[c]) for c in cols])
+        w.writerow([_csv_cell(r.get(c)) for c in cols])
     return buf.getvalue()
 
 
@@ -186,9 +195,9 @@ def _tex(s: str) -> str:
 
 def table_tex(s: dict[str, Any]) -> str:
     lines = [f"% {s['title']} (resal {s['experiment']}); needs \\usepackage{{booktabs}} and UTF-8 input",
-             r"\begin{tabular}{llllll}", r"\toprule",
-             " & ".join(_tex(h) for h in HEADERS[:6]) + r" \\", r"\midrule"]
-    lines += [" & ".join(_tex(c) for c in _row_cells(r)[:6]) + r" \\" for r in s["rows"]]
+             r"\begin{tabular}{" + "l" * _TEX_COLS + "}", r"\toprule",
+             " & ".join(_tex(h) for h in HEADERS[:_TEX_COLS]) + r" \\", r"\midrule"]
+    lines += [" & ".join(_tex(c) for c in row_cells(r)[:_TEX_COLS]) + r" \\" for r in s["rows"]]
     lines += [r"\bottomrule", r"\end{tabular}", ""]
     return "\n".join(lines)
 
@@ -233,7 +242,8 @@ def _draw(spec: FigureSpec, folder: Path) -> None:
     ax.grid(alpha=0.3)
     if any(ly.label and ly.kind != "heatmap" for ly in spec.layers):
         ax.legend(fontsize=8, loc="best")
-    fig.savefig(folder / f"{spec.name}.png", dpi=120, metadata={"Software": None})
+    # the title goes into the PNG too: report.pdf heads the figure's page with it
+    fig.savefig(folder / f"{spec.name}.png", dpi=120, metadata={"Software": None, "Title": spec.title})
     fig.savefig(folder / f"{spec.name}.pdf", metadata={"Creator": None, "Producer": None, "CreationDate": None})
     plt.close(fig)
 
@@ -310,8 +320,9 @@ def _signals_deferred() -> Iterator[None]:
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
-def _atomic_text(path: Path, text: str) -> None:
-    """Write ``path`` through a temporary file beside it (a plain ``open``: the umask's mode), then rename."""
+def _atomic_write(path: Path, write: Callable[[BinaryIO], None]) -> None:
+    """Write ``path`` through a temporary file beside it (a plain ``open``: the umask's mode), then rename;
+    ``write`` fills the file. An error or an interruption removes the temporary file and leaves ``path``."""
     while True:
         tmp = path.parent / staging_name(f"{path.name}.tmp")
         try:
@@ -320,12 +331,17 @@ def _atomic_text(path: Path, text: str) -> None:
         except FileExistsError:
             continue
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
+        with os.fdopen(fd, "wb") as fh:
+            write(fh)
         os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+def _atomic_text(path: Path, text: str) -> None:
+    """``path`` holds ``text`` (UTF-8), written whole through a temporary file and a rename."""
+    _atomic_write(path, lambda fh: fh.write(text.encode("utf-8")))
 
 
 def ensure_writable(out: Path, where: str = "--out") -> None:
@@ -408,32 +424,372 @@ def _summaries(out: Path) -> list[tuple[str, dict[str, Any]]]:
     return sorted(found, key=lambda x: (x[1]["source"].get("page") or 0, x[1]["experiment"]))
 
 
-def write_index(out: Path) -> Path:
-    """``out/index.md`` (one line per experiment found under ``out``, with its verdict counts) and
-    ``out/paper-table.{md,tex}`` (every printed value of the paper, in the paper's order)."""
-    lines = ["# resal: results\n", "Reproduction of H. Résal (1883), *Commentaire à la théorie mathématique du jeu "
-             "de billard*. One folder per experiment; `summary.json` holds every number; "
-             "[paper-table.md](paper-table.md) lists every printed value.\n",
-             "| experiment | section | title | reproduced | differs | not checkable | tables |",
-             "|---|---|---|---|---|---|---|"]
-    summaries = _summaries(out)
+# -- the paper as a whole: index.md, paper-table.{md,csv,tex}, report.pdf ---------------------------------------
+VERDICTS = ("reproduced", "differs", "not-checkable")
+PAPER_HEADERS = ("experiment", "section", "n°", "equation", "line", "id", "claim", "printed", "computed",
+                 "rel. diff", "verdict", "reason", "today's value")
+PAPER_CSV = ("experiment", "section", "n", "equation", "line", "id", "claim", "printed", "printed_value", "computed",
+             "rel_diff", "tolerance", "verdict", "reason", "note", "today_symbol", "today")
+# a row's source: "§II n°7, eq. (3)", "§III n°8-10", "§V n°12, eqs (5), (8)", "§III n°10, footnote"
+_SOURCE_RE = re.compile(r"§\s*(?P<section>[IVXLC]+)\s*n°\s*(?P<n>\d+(?:\s*[-–]\s*\d+)?)(?:\s*,\s*(?P<eq>[^§]*?))?\s*")
+# "Mathavan, Jackson & Parkin 2009, Am. J. Phys. …" → "Mathavan 2009": a name, then other names up to a year
+_AUTHOR_YEAR_RE = re.compile(r"(?P<who>[^\W\d_][\w'’-]*)[^\d:;()]*?\b(?P<year>1[6-9]\d\d|20\d\d)\b")
+
+
+def parse_source(source: str | None) -> tuple[str, str, str]:
+    """(section, n°, equation) of a row's ``source``, written ``§<roman> n°<n>[, eq. (…)]``. What does not
+    parse that way (a second section, free text) is kept whole as the section, with n° and equation empty."""
+    m = _SOURCE_RE.fullmatch((source or "").strip())
+    if m is None:
+        return (source or "").strip(), "", ""
+    return f"§{m['section']}", re.sub(r"\s+", "", m["n"]), (m["eq"] or "").strip()
+
+
+def _short_source(text: str) -> str:
+    """A modern value's source, short: "Mathavan 2009", "Alciatore FAQ (leather tips)"; several joined by ';'."""
+    parts = []
+    for part in text.split(";"):
+        part = re.sub(r"\s*\([^)]*\d[^)]*\)", "", part.split(": ", 1)[0]).strip()  # no "(0.14)", no formula
+        m = _AUTHOR_YEAR_RE.match(part)
+        parts.append(f"{m['who']} {m['year']}" if m else re.split(r",", part, maxsplit=1)[0].strip())
+    return "; ".join(p for p in parts if p)
+
+
+def _modern_value(m: dict[str, Any]) -> str:
+    """One modern value as the paper table shows it: "0.818 (Mathavan 2009)", "0.6–0.9 (Alciatore FAQ)"."""
+    lo, typ, hi = m.get("low"), m.get("typ"), m.get("high")
+    rng = (f"{_fmt(lo, 4)}–{_fmt(hi, 4)}" if lo is not None and hi is not None else
+           f"≥ {_fmt(lo, 4)}" if lo is not None else f"≤ {_fmt(hi, 4)}" if hi is not None else "")
+    if typ is not None:
+        value = _fmt(typ, 4) + (f", range {rng}" if rng else "")
+    elif rng:
+        value = rng
+    else:  # a law: the formula its source gives
+        source = m.get("source") or ""
+        value = source.split(": ", 1)[1].strip() if ": " in source else "a law"
+    who = _short_source(m.get("source") or "")
+    return f"{value} ({who})" if who else value
+
+
+def today_value(symbol: str | None, modern: Iterable[dict[str, Any]]) -> str:
+    """Today's value(s) of ``symbol`` among an experiment's ``modern`` entries; "" when the row names none."""
+    if not symbol:
+        return ""
+    found = [_modern_value(m) for m in modern if m.get("symbol") == symbol]
+    return "; ".join(found) if found else f"{symbol}: not among the experiment's modern values"
+
+
+def paper_rows(summaries: Iterable[tuple[str, dict[str, Any]]]) -> list[dict[str, Any]]:
+    """Every row of every experiment, in the paper's order: by ``line`` of the digitised text; rows without a line
+    after them, in experiment order. Each: experiment, folder, the row, section / n° / equation, today's value."""
+    found = []
     for name, s in summaries:
-        v = [r["verdict"] for r in s["rows"]]
-        lines.append(f"| [{s['experiment']}]({name}/table.md) | {s['source']['section']} | {_md_escape(s['title'])} "
-                     f"| {v.count('reproduced')} | {v.count('differs')} | {v.count('not-checkable')} "
-                     f"| [md]({name}/table.md) · [csv]({name}/table.csv) · [tex]({name}/table.tex) · "
-                     f"[json]({name}/summary.json) |")
-    path = out / "index.md"
-    _atomic_text(path, "\n".join(lines) + "\n")
-    md = ["# Every printed value of Résal (1883), in the paper's order\n"]
-    md.append(_md_table(("experiment", *HEADERS), ([s["experiment"], *_row_cells(r)] for _, s in summaries
-                                                    for r in s["rows"])))
-    _atomic_text(out / "paper-table.md", "\n".join(md))
-    tex = [r"% Every printed value of Résal (1883) (resal); needs \usepackage{booktabs, longtable} and UTF-8 input",
-           r"\begin{longtable}{lllllll}", r"\toprule",
-           " & ".join(_tex(h) for h in ("experiment", *HEADERS[:6])) + r" \\", r"\midrule"]
-    tex += [" & ".join(_tex(c) for c in [s["experiment"], *_row_cells(r)[:6]]) + r" \\"
-            for _, s in summaries for r in s["rows"]]
+        for r in s["rows"]:
+            section, n, eq = parse_source(r.get("source"))
+            found.append({"experiment": s["experiment"], "folder": name, "row": r, "section": section, "n": n,
+                          "equation": eq, "today": today_value(r.get("today"), s.get("modern", ()))})
+    return sorted(found, key=lambda x: (x["row"].get("line") is None, x["row"].get("line") or 0))
+
+
+def _paper_cells(x: dict[str, Any]) -> list[str]:
+    r = x["row"]
+    return [x["experiment"], x["section"], x["n"], x["equation"], _fmt(r.get("line"), 9), r["id"], r["quantity"],
+            r["printed_text"], _fmt(r["computed"]), _rel(r["rel_diff"]), r["verdict"], r.get("reason") or "",
+            x["today"]]
+
+
+def paper_table_md(rows: list[dict[str, Any]]) -> str:
+    return "\n".join(["# Every printed value of Résal (1883), in the paper's order\n",
+                      "By line of the digitised text (`line`); rows not yet given a line follow, in experiment order. "
+                      "`reason` says why a row that differs differs (see `configs/README.md`).\n",
+                      _md_table(PAPER_HEADERS, (_paper_cells(x) for x in rows))])
+
+
+def paper_table_csv(rows: list[dict[str, Any]]) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(PAPER_CSV)
+    for x in rows:
+        r = x["row"]
+        w.writerow([_csv_cell(v) for v in (
+            x["experiment"], x["section"], x["n"], x["equation"], r.get("line"), r["id"], r["quantity"],
+            r["printed_text"], r["printed"], r["computed"], r["rel_diff"], r["tolerance"], r["verdict"],
+            r.get("reason"), r["note"], r.get("today"), x["today"])])
+    return buf.getvalue()
+
+
+def paper_table_tex(rows: list[dict[str, Any]]) -> str:
+    cols = "lllllp{4.5cm}p{3cm}lllll" + "p{3cm}"
+    tex = [r"% Every printed value of Résal (1883) (resal), in the paper's order; needs \usepackage{booktabs, "
+           r"longtable} and UTF-8 input",
+           r"\begin{longtable}{" + cols + "}", r"\toprule",
+           " & ".join(_tex(h) for h in PAPER_HEADERS if h != "id") + r" \\", r"\midrule", r"\endhead"]
+    tex += [" & ".join(_tex(c) for i, c in enumerate(_paper_cells(x)) if PAPER_HEADERS[i] != "id") + r" \\"
+            for x in rows]
     tex += [r"\bottomrule", r"\end{longtable}", ""]
-    _atomic_text(out / "paper-table.tex", "\n".join(tex))
+    return "\n".join(tex)
+
+
+def verdict_counts(rows: Iterable[dict[str, Any]]) -> tuple[dict[str, int], dict[str, int]]:
+    """Rows per verdict, and the differing rows per reason code (``none given`` for a differing row without one)."""
+    verdicts = dict.fromkeys(VERDICTS, 0)
+    reasons = dict.fromkeys(REASONS, 0)
+    for r in rows:
+        verdicts[r["verdict"]] = verdicts.get(r["verdict"], 0) + 1
+        if r["verdict"] == "differs":
+            code = r.get("reason") or "none given"
+            reasons[code] = reasons.get(code, 0) + 1
+    return verdicts, {k: v for k, v in reasons.items() if v}
+
+
+def _counts_text(verdicts: dict[str, int], reasons: dict[str, int]) -> str:
+    text = ", ".join(f"{verdicts[v]} {v}" for v in VERDICTS)
+    if reasons:
+        text += " (" + ", ".join(f"{k} {v}" for k, v in reasons.items()) + ")"
+    return text
+
+
+def index_md(summaries: list[tuple[str, dict[str, Any]]]) -> str:
+    all_rows = [r for _, s in summaries for r in s["rows"]]
+    verdicts, reasons = verdict_counts(all_rows)
+    out = ["# resal: results\n",
+           "Reproduction of H. Résal (1883), *Commentaire à la théorie mathématique du jeu de billard*. One folder "
+           "per experiment; `summary.json` holds every number; [paper-table.md](paper-table.md) "
+           "([csv](paper-table.csv), [tex](paper-table.tex)) lists every printed value in the paper's order, and "
+           "[report.pdf](report.pdf) gathers this index, that table and every figure.\n",
+           "## Verdicts\n",
+           f"{len(all_rows)} printed values and claims in {len(summaries)} experiments: "
+           f"**{verdicts['reproduced']} reproduced**, **{verdicts['differs']} differ**, "
+           f"**{verdicts['not-checkable']} not checkable**.\n",
+           _md_table(("verdict", "rows"), ([v, str(verdicts[v])] for v in VERDICTS))]
+    if reasons:
+        out += ["\nWhy the differing rows differ:\n",
+                _md_table(("reason", "rows", "meaning"),
+                          ([k, str(n), REASONS.get(k, "the row names no reason yet")] for k, n in reasons.items()))]
+    out += ["\n## Experiments\n",
+            _md_table(("experiment", "section", "title", "reproduced", "differs", "not checkable"), (
+                [f"[{s['experiment']}]({name}/table.md)", s["source"]["section"], s["title"],
+                 *(str(verdict_counts(s["rows"])[0][v]) for v in VERDICTS)] for name, s in summaries))]
+    for name, s in summaries:
+        v, why = verdict_counts(s["rows"])
+        out.append(f"\n### [{s['experiment']}]({name}/table.md): {_md_escape(s['title'])}\n")
+        out.append(f"{s['source']['section']}. {_counts_text(v, why)}. Tables: [md]({name}/table.md) · "
+                   f"[csv]({name}/table.csv) · [tex]({name}/table.tex) · [json]({name}/summary.json).\n")
+        out += [f"![{name}/{f}]({name}/{f})\n" for f in s["figures"] if f.endswith(".png")]
+    return "\n".join(out)
+
+
+# report.pdf: A4 landscape pages of monospace text, then every figure's PNG on a page of its own. The text is text
+# (searchable, and what tests/test_paper_report.py reads back): runs of characters that the PDF core font Courier
+# has (cp1252) are written as plain strings in it — nothing embedded, no glyph layout, ten times faster than an
+# embedded font, which made the table pages cost seconds — and the other runs (Greek, primes, ≤, ₂) in DejaVu Sans
+# Mono, embedded, each run placed on the character grid. No date or software version is written: same bytes.
+_PDF_META = {"Creator": None, "Producer": None, "CreationDate": None}
+_PAGE = (11.69, 8.27)  # inches
+_PT = 6.0  # table font size (points)
+_ADVANCE = 0.6  # em: Courier's advance (DejaVu Sans Mono's is 0.602)
+_LEAD = 1.3 * _PT / 72 / _PAGE[1]  # one line, in figure height
+_LEFT, _RIGHT, _TOP, _BOTTOM = 0.03, 0.97, 0.925, 0.045
+_COLOUR = {"reproduced": "black", "differs": "#b00000", "not-checkable": "#8a6400"}
+@functools.cache
+def _courier_has(ch: str) -> bool:
+    """Whether the PDF core font Courier (WinAnsi, i.e. cp1252) has the character."""
+    try:
+        ch.encode("cp1252")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
+@functools.cache
+def _embedded_text() -> type:
+    """A Text drawn in an embedded font while the page's other text uses the PDF core fonts (matplotlib reads
+    ``pdf.use14corefonts`` as it measures and draws each text)."""
+    from matplotlib import rcParams
+    from matplotlib.text import Text
+
+    class Embedded(Text):
+        def draw(self, renderer: Any) -> None:
+            old = rcParams["pdf.use14corefonts"]
+            rcParams["pdf.use14corefonts"] = False
+            try:
+                super().draw(renderer)
+            finally:
+                rcParams["pdf.use14corefonts"] = old
+
+    return Embedded
+
+
+def _chars(size: float = _PT) -> int:
+    """How many characters of ``size`` points fit between the margins."""
+    return int((_RIGHT - _LEFT) * _PAGE[0] * 72 / (_ADVANCE * size))
+
+
+def _line(fig: Any, x: float, y: float, text: str, size: float = _PT, weight: str = "normal",
+          color: str = "black") -> None:
+    """One line of monospace text at (x, y) (figure fraction, baseline), run by run on the character grid."""
+    from matplotlib.text import Text
+
+    step = _ADVANCE * size / 72 / _PAGE[0]
+    start = 0
+    for core, group in itertools.groupby(text, _courier_has):
+        run = "".join(group)
+        if run.strip():
+            lead = len(run) - len(run.lstrip())
+            cls = Text if core else _embedded_text()
+            fig.add_artist(cls(x + (start + lead) * step, y, run.strip(), fontsize=size, parse_math=False,
+                               family="Courier" if core else "DejaVu Sans Mono", color=color,
+                               weight=("bold" if weight == "bold" else "medium") if core else weight,
+                               transform=fig.transFigure))
+        start += len(run)
+
+
+def _cell(text: str, width: int, lines: int = 3) -> list[str]:
+    """``text`` wrapped to ``width`` characters on at most ``lines`` lines, the last cut with '…'."""
+    import textwrap
+
+    wrapped = textwrap.wrap(" ".join(str(text).split()), width, break_long_words=True) or [""]
+    if len(wrapped) > lines:
+        wrapped = [*wrapped[:lines - 1], wrapped[lines - 1][:width - 1] + "…"]
+    return wrapped
+
+
+def _block(cells: list[list[str]], widths: list[int]) -> list[str]:
+    """Cells (each a list of lines) side by side, padded to their widths."""
+    return [" ".join(c[i].ljust(w) if i < len(c) else " " * w for c, w in zip(cells, widths, strict=True)).rstrip()
+            for i in range(max(len(c) for c in cells))]
+
+
+def _page(title: str) -> Any:
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=_PAGE)
+    _line(fig, _LEFT, 0.955, title, size=10, weight="bold")
+    return fig
+
+
+def _text_pages(pdf: Any, title: str, header: list[str], blocks: list[tuple[list[str], str]]) -> None:
+    """Blocks of text lines (each with its colour) on as many pages as they need, never split across pages,
+    shaded every other block, each page with the title, the header and its page number."""
+    from matplotlib.patches import Rectangle
+
+    room = int((_TOP - _BOTTOM) / _LEAD) - len(header) - 1
+    pages: list[list[tuple[list[str], str]]] = [[]]
+    used = 0
+    for b in blocks:
+        if pages[-1] and used + len(b[0]) > room:
+            pages.append([])
+            used = 0
+        pages[-1].append(b)
+        used += len(b[0])
+    for k, page in enumerate(pages):
+        fig = _page(title)
+        number = f"{k + 1}/{len(pages)}"
+        _line(fig, _LEFT, 0.02, number.rjust(_chars()))
+        y = _TOP
+        for ln in header:
+            _line(fig, _LEFT, y - 0.8 * _LEAD, ln, weight="bold")
+            y -= _LEAD
+        y -= _LEAD / 2
+        for i, (lines, colour) in enumerate(page):
+            if i % 2:
+                fig.add_artist(Rectangle((_LEFT - 0.004, y - len(lines) * _LEAD - 0.2 * _LEAD),
+                                         _RIGHT - _LEFT + 0.008, len(lines) * _LEAD, transform=fig.transFigure,
+                                         color="0.93", lw=0, zorder=-1))
+            for ln in lines:
+                _line(fig, _LEFT, y - 0.8 * _LEAD, ln, color=colour)
+                y -= _LEAD
+        pdf.savefig(fig)
+
+
+def _index_blocks(summaries: list[tuple[str, dict[str, Any]]]) -> list[tuple[list[str], str]]:
+    all_rows = [r for _, s in summaries for r in s["rows"]]
+    verdicts, reasons = verdict_counts(all_rows)
+    blocks = [([f"{len(all_rows)} printed values and claims in {len(summaries)} experiments: "
+                f"{_counts_text(verdicts, reasons)}.", ""], "black")]
+    for code, n in reasons.items():
+        blocks.append(([f"  {code:<12} {n:>4}  {REASONS.get(code, 'the row names no reason yet')}"], "black"))
+    width = max([10, *(len(s["experiment"]) for _, s in summaries)])
+    sw = max([7, *(len(s["source"]["section"]) for _, s in summaries)])
+    blocks.append((["", f"{'experiment':<{width}}  {'section':<{sw}} {'reproduced':>10} {'differs':>8} "
+                        f"{'not-checkable':>13}  figures  title"], "black"))
+    for _, s in summaries:
+        v, why = verdict_counts(s["rows"])
+        figs = sum(f.endswith(".png") for f in s["figures"])
+        line = (f"{s['experiment']:<{width}}  {s['source']['section']:<{sw}} {v['reproduced']:>10} {v['differs']:>8} "
+                f"{v['not-checkable']:>13}  {figs:>7}  {s['title']}")
+        why_text = ", ".join(f"{k} {n}" for k, n in why.items())
+        blocks.append(([line[:_chars()], *([f"{'':<{width}}  differing: {why_text}"] if why else [])], "black"))
+    return blocks
+
+
+def _paper_blocks(rows: list[dict[str, Any]]) -> tuple[list[str], list[tuple[list[str], str]]]:
+    """The paper table as fixed-width text: the header and one block per row (id above its experiment)."""
+    ref = max([15, *(max(len(x["row"]["id"]), len(x["experiment"])) for x in rows)])
+    fixed = {"section": 11, "equation": 14, "line": 5, "ref": ref, "printed": 28, "computed": 12, "rel": 9,
+             "verdict": 13, "reason": 10, "today": 26}
+    claim = max(20, _chars() - sum(fixed.values()) - len(fixed))
+    widths = [fixed["section"], fixed["equation"], fixed["line"], ref, claim, fixed["printed"], fixed["computed"],
+              fixed["rel"], fixed["verdict"], fixed["reason"], fixed["today"]]
+    header = _block([[h] for h in ("§ n°", "equation", "line", "id / experiment", "claim", "printed", "computed",
+                                   "rel. diff", "verdict", "reason", "today's value")], widths)
+    blocks = []
+    for x in rows:
+        r = x["row"]
+        where = f"{x['section']} n°{x['n']}" if x["n"] else x["section"]
+        cells = [_cell(where, widths[0]), _cell(x["equation"], widths[1]), [_fmt(r.get("line"), 9)],
+                 [r["id"], x["experiment"]], _cell(r["quantity"], claim), _cell(r["printed_text"], widths[5]),
+                 [_fmt(r["computed"])], [_rel(r["rel_diff"])], [r["verdict"]], [r.get("reason") or ""],
+                 _cell(x["today"], widths[10])]
+        blocks.append((_block(cells, widths), _COLOUR.get(r["verdict"], "black")))
+    return header, blocks
+
+
+def _figure_page(pdf: Any, png: Path, heading: str) -> None:
+    import numpy as np
+    from PIL import Image
+
+    fig = _page(heading)
+    with Image.open(png) as im:
+        title = im.info.get("Title", "")
+        pixels = np.asarray(im.convert("RGB"))
+    _line(fig, _LEFT, 0.925, f"{png.parent.name}/{png.name}" + (f": {title}" if title else ""), size=8)
+    ax = fig.add_axes((0.05, 0.03, 0.9, 0.87))
+    ax.imshow(pixels, interpolation="none")  # the PNG's own pixels, embedded as they are
+    ax.set_axis_off()
+    pdf.savefig(fig)
+
+
+def report_pdf(fh: Any, out: Path, summaries: list[tuple[str, dict[str, Any]]], rows: list[dict[str, Any]]) -> None:
+    """``report.pdf`` into the binary file ``fh``: the index, the paper table, then every figure of every
+    experiment (its PNG, read from ``out/<experiment>/``)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.backends.backend_pdf import PdfPages
+
+    with matplotlib.rc_context({"pdf.use14corefonts": True, "pdf.fonttype": 3}), \
+            PdfPages(fh, metadata=_PDF_META) as pdf:
+        _text_pages(pdf, "Résal (1883), Commentaire à la théorie mathématique du jeu de billard: resal's verdicts",
+                    [], _index_blocks(summaries))
+        header, blocks = _paper_blocks(rows)
+        _text_pages(pdf, "Every printed value, in the paper's order (by line of the digitised text)", header, blocks)
+        for name, s in summaries:
+            for f in s["figures"]:
+                if f.endswith(".png") and (out / name / f).is_file():
+                    _figure_page(pdf, out / name / f, f"{s['experiment']}: {s['title']}")
+
+
+def write_index(out: Path) -> Path:
+    """``out/index.md`` (verdict totals, then each experiment found under ``out`` with its counts, figures and
+    tables), ``out/paper-table.{md,csv,tex}`` (every printed value of the paper, in the paper's order) and
+    ``out/report.pdf`` (the index, the paper table and every figure), each written whole and renamed into place."""
+    summaries = _summaries(out)
+    rows = paper_rows(summaries)
+    path = out / "index.md"
+    _atomic_text(path, index_md(summaries))
+    _atomic_text(out / "paper-table.md", paper_table_md(rows))
+    _atomic_text(out / "paper-table.csv", paper_table_csv(rows))
+    _atomic_text(out / "paper-table.tex", paper_table_tex(rows))
+    _atomic_write(out / "report.pdf", lambda fh: report_pdf(fh, out, summaries, rows))
     return path
