@@ -19,7 +19,11 @@ from ..mechanics import cushion, impact
 from ..mechanics.paths import Regime
 from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
 
-QUANTITIES = ("eq4", "eq5", "eq6", "eq7_as_printed", "eq9", "eq10_as_printed", "closed_form", "approx_error")
+QUANTITIES = ("j_today", "stays_on_cloth", "q_constant", "eq1", "eq2_as_printed", "eq3", "eq4", "eq5", "eq3_in_p",
+              "n_of_p", "eq6", "eq7_as_printed", "phi_sign", "eq8_as_printed", "eq8_sign", "eq8_differential",
+              "eq9", "dchi", "zeta_integral_sign", "nu_n5", "eq10_as_printed", "eq10_sign", "n0_zero",
+              "not_elementary", "closed_form", "small_quantity", "expansion_identity", "eq11_as_printed",
+              "approx_error", "approx_error_beyond", "eq11_integrable")
 MODERN = ("mu_c", "e_c", "e_c(v)")
 
 
@@ -115,17 +119,20 @@ def run(exp: Experiment) -> Reproduction:
     computed["eq10_as_printed"] = Computed(c["eq10_as_printed"], how, lambda _p: (
         "the integral (10) with the printed exponent (1 + k)/2 misses j(1 + k)(1 + ν)a; with 2/(1 + k) it is the "
         "exact closed form used here"))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cl = claims(p, exp.seed)
+    for key, (value, text) in cl.items():
+        if key not in computed:
+            computed[key] = Computed(value, text, lambda _p, text=text: text)
     theta, spin, chi0, zeta0, p0, n0 = grid(p)
     exact = cushion.cushion_impact(chi0, zeta0, p0, n0, R=p.R, k=p.k, j=p.j, eps=p.eps, method="exact")
     approx = cushion.cushion_impact(chi0, zeta0, p0, n0, R=p.R, k=p.k, j=p.j, eps=p.eps, method="resal")
     err = np.abs(rebound_angle(approx) - rebound_angle(exact))
     worst = np.unravel_index(np.argmax(err), err.shape)
     where = f"incidence {math.degrees(theta[worst[1]]):.0f}°, side spin p0R/V = {spin[worst[0]]:+.2f}"
-    speed_err = float(np.max(np.hypot(approx.chi1 - exact.chi1, approx.zeta1 - exact.zeta1)) / p.speed)
-    computed["approx_error"] = Computed(speed_err, (
-        f"largest |v1(11) − v1(exact)|/V over incidence 1°–85° and side spin ±V/R, V = {p.speed:g} m/s; the "
-        f"rebound angle errs by up to {err.max():.2f}° ({where}). The error is O(j²) with the printed exponent, "
-        f"O(j³) with the derived one (method resal-corrected)"))
+    beyond = cl["approx_error_beyond"]
+    computed["approx_error_beyond"] = Computed(beyond[0], beyond[1] + (
+        f"; the rebound angle errs by up to {err.max():.2f}° ({where})"))
     computed["closed_form"] = Computed(c["closed_form"], how + "; the exact path is the ₂F₁ closed form")
     e_modern = _modern_e(p, p.speed * np.cos(theta))
     modern = modern_rows(exp.modern, {
@@ -168,3 +175,231 @@ def _figure_rebound(p: Params, theta: np.ndarray, e_modern: np.ndarray) -> Figur
                                 style="--"),
                           layer("line", th, th, label="mirror reflection", color="k", style=":")),
                       (0, 90), (0, 90), caption="Han 2005: e = 0.39 + 0.257 v − 0.044 v², v the normal speed (m/s)")
+
+
+# ---- issue 13: every step and assertion of n°11, checked against an independent computation ----------------
+def _states(seed: int, n: int = 200) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Random states of a ball against the cushion (η = 0): v = (χ, 0, ζ), ω = (n, p, q), and j; a seeded
+    stream of its own, so that the rows of ``checks`` keep their scenes."""
+    rng = np.random.default_rng([seed, 13])
+    v = np.c_[rng.uniform(-3, 3, n), np.zeros(n), -rng.uniform(0.1, 3, n)]
+    omega = np.c_[rng.uniform(-100, 100, n), rng.uniform(-100, 100, n), rng.uniform(-100, 100, n)]
+    return v, omega, rng.uniform(0.05, 0.5, n)
+
+
+def _wide_scenes(seed: int, n: int = 80) -> tuple[np.ndarray, ...]:
+    """Scenes where a sign of φ could turn: slips along the cushion from 1e-4 to 3 m/s against vertical slips
+    up to 3 m/s, friction up to 1,5, grazing and normal approach."""
+    rng = np.random.default_rng([seed, 457])
+    phi0 = rng.choice([-1.0, 1.0], n) * 10 ** rng.uniform(-4, 0.5, n)
+    psi0 = rng.choice([-1.0, 1.0], n) * 10 ** rng.uniform(-2, 0.5, n)
+    chi0 = rng.uniform(-3, 3, n)
+    return chi0, -10 ** rng.uniform(-2, 0.5, n), chi0 - phi0, psi0, rng.uniform(0.05, 1.5, n)
+
+
+def _integral(f0: float, f1: float, r2: float, e: float) -> float:
+    """∫_{f1}^{f0} √(1 + r² (f0/x)^e) dx for 0 < f1 < f0 (the integral of (8)-(10) in |φ|), by quadrature."""
+    from scipy.integrate import quad
+
+    return quad(lambda x: math.sqrt(1 + r2 * (f0 / x) ** e), f1, f0, epsabs=0, epsrel=1e-12, limit=200)[0]
+
+
+def claims(p: Params, seed: int) -> dict[str, tuple[float, str]]:
+    """The rows of issue 13 (configs/cushion-impact.yaml), each a (value, how) pair; see the config's rows."""
+    R, k, jj = p.R, p.k, p.j
+    nu = float(impact.nu_from_eps(p.eps))
+    out: dict[str, tuple[float, str]] = {}
+    # §IV n°11, l. 409: Coriolis's j against today's measurements
+    mu = next(r for r in modern_rows(("mu_c",), {"mu_c": (jj, "")}) if r["low"] is not None)
+    mid = (mu["low"] + mu["high"]) / 2
+    out["j_today"] = (mid, f"middle of today's measured range {mu['low']:g}–{mu['high']:g} ({mu['source']})")
+    # l. 411: the ball keeps to the cloth. The cushion's friction pushes it vertically by dη = d(nR)/k (eqs 2 with
+    # η free): for a ball rolling into the cushion the slip is downward, the push upward, and the cloth cannot pull
+    theta, spin, chi0g, zeta0g, p0g, n0g = grid(p)
+    ex = cushion.cushion_impact(chi0g, zeta0g, p0g, n0g, R=R, k=k, j=jj, eps=p.eps, method="exact")
+    ag = -zeta0g
+    eta1 = (ex.n1 - n0g) * R / k
+    hop = float(np.max(eta1)) ** 2 / (2 * 9.81)
+    out["stays_on_cloth"] = (float(np.max(eta1 / ag)), (
+        f"largest upward velocity η1/a the cushion's friction gives a ball rolling into it (incidence 1°–85°, side "
+        f"spin ±V/R): j(1 + ν) = {jj * (1 + nu):.3g} head-on, first order in j like the changes n°11 computes, not "
+        f"of the order j² it neglects; at V = {p.speed:g} m/s the ball would rise {hop * 100:.1f} cm = "
+        f"{hop / R:.2f} R (g = 9.81 m/s²), {float(np.max(eta1)) / 9.81 * 1000:.0f} ms to the top. With the "
+        f"contact at the height of the centre nothing holds the ball down; a real cushion's nose, above the "
+        f"centre, does"))
+    # l. 413, 423, 427, 431: eqs (1)-(3) against Newton and Euler in vectors
+    v, om, js = _states(seed)
+    u = cushion.contact_velocity(v, om, R)
+    phi, psi = v[:, 0] - om[:, 1] * R, om[:, 0] * R
+    scale = np.max(np.abs(u))
+    om_q0 = om.copy()
+    om_q0[:, 2] = 0.0
+    F, dom = cushion.rigid_body_rates(v, om, R, k, js)
+    out["q_constant"] = (float(max(np.max(np.abs(dom[:, 2])) * R / np.max(js),
+                                   np.max(np.abs(u[:, :2] - cushion.contact_velocity(v, om_q0, R)[:, :2])) / scale)),
+                         "largest rate of q (×R/j) under the cushion's reaction, and largest change of the slip "
+                         "when q is set to 0, relative, over 200 random states (r × F has no component along "
+                         "r = −R e_z)")
+    out["eq1"] = (float(np.max(np.abs(u[:, :2] - np.c_[phi, psi])) / scale),
+                  "largest |v + ω × r − (χ − pR, nR)| over 200 random states, r = −R e_z, relative")
+    vs = np.hypot(phi, psi)
+    rates_printed = np.c_[-js * phi / vs, np.ones_like(vs), -js * psi / vs, js * phi / vs]
+    rates_true = np.c_[F[:, 0], F[:, 2], dom[:, 0] * R / k, dom[:, 1] * R / k]
+    orig = float(np.max(np.abs(rates_true - rates_printed)))
+    out["eq2_as_printed"] = (float(np.max(np.abs(js * phi / vs))), (
+        f"the digitised first equation, M dy/dt = −(φ/v) fZ, gives the vertical velocity (zero by the premise "
+        f"η = 0) the rate of the friction along the cushion: largest |jφ/v| over 200 random states. The likely "
+        f"original, M dχ/dt (written M dx/dt as in §III eq. (4)), and the three others agree with Newton and "
+        f"Euler in vectors to {orig:.1e} per unit normal impulse"))
+    out["eq2_original"] = (orig, "")
+    lhs3, rhs3 = dom[:, 0] * R / psi, -dom[:, 1] * R / phi
+    out["eq3"] = (float(np.max(np.abs(lhs3 - rhs3) / np.maximum(np.abs(lhs3), np.abs(rhs3)))),
+                  "largest relative |d(nR)/(nR) + d(pR)/(χ − pR)| from Newton and Euler, 200 random states")
+    out["dchi"] = (float(np.max(np.abs(F[:, 0] - (F[:, 0] - dom[:, 1] * R) / (1 + k))) / np.max(js)),
+                   "largest |dχ − dφ/(1 + k)| per unit normal impulse (relative to j), Newton and Euler, 200 states")
+    # ends and a mid-point of the integrated impact (40 scenes of ``checks``)
+    chi0, zeta0, p0, n0, j = _scenes(seed)
+    a = -zeta0
+    ode = cushion.cushion_impact(chi0, zeta0, p0, n0, R=R, k=k, j=j, eps=p.eps, method="ode")
+    phi0, psi0 = chi0 - p0 * R, n0 * R
+    phi1, psi1 = ode.chi1 - ode.p1 * R, ode.n1 * R
+    slide = (np.sign(phi1) == np.sign(phi0)) & (np.abs(phi1) > 1e-9 * a)
+    C = chi0 + p0 * R / k
+    F1, dom1 = cushion.rigid_body_rates(np.c_[ode.chi1, 0 * a, ode.zeta1], np.c_[ode.n1, ode.p1, 0 * a], R, k, j)
+    lhs, rhs = dom1[:, 0] * R / psi1, dom1[:, 1] * R / ((1 + k) / k * ode.p1 * R - C)
+    out["eq3_in_p"] = (float(np.max((np.abs(lhs - rhs) / np.abs(lhs))[slide])),
+                       "largest relative discrepancy of d(nR)/(nR) = d(pR)/((1 + k)pR/k − (χ0 + p0R/k)), rates of "
+                       "Newton and Euler at the integrated states of 40 random scenes")
+    ratio = ((1 + k) / k * ode.p1 * R - C) / ((1 + k) / k * p0 * R - C)
+    out["n_of_p"] = (float(np.max(np.abs(ode.n1 * R - n0 * R * np.abs(ratio) ** (k / (1 + k)))[slide] / a[slide])),
+                     "largest |n1R − n0R [((1 + k)p1R/k − C)/((1 + k)p0R/k − C)]^(k/(1 + k))|/a against the "
+                     "integration, 40 random scenes (the digitised ρ, ρ0 are p, p0)")
+    # l. 457: φ keeps the sign of φ0 (so the sign of φ0 chooses ±)
+    wc, wz, wp, wn, wj = _wide_scenes(seed)
+    wide = cushion.cushion_impact(wc, wz, wp / R, wn / R, R=R, k=k, j=wj, eps=p.eps, method="ode")
+    wphi1 = wide.chi1 - wide.p1 * R
+    turned = int(np.sum(np.sign(wphi1) * np.sign(wc - wp) < 0))
+    out["phi_sign"] = (float(turned), (
+        f"scenes of 80 where φ1 has the sign opposite to φ0 in the integration (|φ0| 1e-4…3 m/s, |ψ0| 0.01…3 m/s, "
+        f"j 0.05…1.5); {int(np.sum(wphi1 == 0))} end with the slip stopped. φ = φ0 U^(1 + k) with U ≥ 0: |φ| only "
+        f"decreases, and reaches 0 only with ψ"))
+    # l. 461: eq. (8), j dζ/dχ = ∓√(…), at the integrated end states
+    true8 = 1.0 / F1[:, 0] * j  # j dζ/dχ, dζ/dπ = 1
+    r2 = (psi0 / phi0) ** 2
+    safe1 = np.where(slide, phi1, phi0)
+
+    def root(e: float) -> np.ndarray:
+        return np.sqrt(1 + r2 * np.abs(phi0 / safe1) ** e)
+
+    e_pr, e_der = (1 + k) / 2, 2 / (1 + k)
+    rel = lambda x, y: float(np.max((np.abs(x - y) / np.abs(y))[slide]))  # noqa: E731
+    out["eq8_as_printed"] = (rel(-np.sign(phi0) * root(e_pr), true8), (
+        "largest relative discrepancy of j dζ/dχ = ∓√(1 + (n0R/φ0)²(φ0/φ)^((1 + k)/2)) from Newton and Euler at "
+        "the integrated states of 40 scenes (the digitised μ0, dζ1, dφ read n0, dζ, dχ)"))
+    out["eq8_sign"] = (rel(-np.sign(phi0) * root(e_der), true8),
+                       "largest relative discrepancy of j dζ/dχ = ∓√(…) with the derived exponent 2/(1 + k), Newton "
+                       "and Euler at the integrated states of 40 scenes: the upper sign for φ > 0 is right")
+    true8phi = j / (F1[:, 0] - dom1[:, 1] * R)  # j dζ/dφ
+    out["eq8_differential"] = (rel(-np.sign(phi0) * root(e_der), true8phi), (
+        f"largest relative discrepancy of j dζ/dφ = ∓√(…) as digitised (derived exponent): dφ = (1 + k) dχ, so it "
+        f"is (1 + k) times too large. With dχ, as the text next uses (« d'où dχ = dφ/(1 + k), et l'équation (8) "
+        f"donne par suite »), it agrees to {out['eq8_sign'][0]:.1e}"))
+    # l. 473 (a point inside the impact) and l. 483 (the end): the sign of the integral
+    half = (1 + nu) * a / 2
+    mchi, mp, _ = cushion.state_after_impulse(chi0, p0, n0, half, R=R, k=k, j=j)
+    mphi = mchi - mp * R
+    mslide = (np.sign(mphi) == np.sign(phi0)) & (np.abs(mphi) > 1e-9 * a)
+
+    def signs(phi_e: np.ndarray, lhs_e: np.ndarray, ok: np.ndarray) -> tuple[float, float]:
+        bad, good = [], []
+        for i in np.nonzero(ok)[0]:
+            integral = np.sign(phi0[i]) * _integral(abs(phi0[i]), abs(phi_e[i]), r2[i], e_der)  # ∫_φ^φ0 dφ
+            printed = -np.sign(phi0[i]) * integral  # ∓ ∫_φ^φ0, the upper sign for φ > 0
+            bad.append(abs(lhs_e[i] - printed) / a[i])
+            good.append(abs(lhs_e[i] + printed) / a[i])
+        return max(bad), max(good)
+
+    mid_bad, mid_good = signs(mphi, half * j * (1 + k), mslide)
+    end_bad, end_good = signs(phi1, (1 + nu) * a * j * (1 + k), slide)
+    out["zeta_integral_fixed"], out["eq10_fixed"] = (mid_good, ""), (end_good, "")
+    out["zeta_integral_sign"] = (mid_bad, (
+        f"largest |(ζ − ζ0) j(1 + k) − (∓∫_φ^φ0 √(…) dφ)|/a halfway through the impact (ζ − ζ0 = (1 + ν)a/2), 40 "
+        f"integrated scenes, quadrature, derived exponent: the printed ∓ makes a positive quantity negative. With "
+        f"± (the limits turned, as (11) has it) it agrees to {out['zeta_integral_fixed'][0]:.1e}"))
+    out["eq10_sign"] = (end_bad, (
+        f"largest |a j(1 + k)(1 + ν) − (∓∫_φ1^φ0 √(…) dφ)|/a at the end of the impact, 40 integrated scenes, "
+        f"derived exponent: with the printed ∓ the right side is negative and (10) has no root φ1 between 0 and "
+        f"φ0. With ± (as (11) prints) it agrees to {out['eq10_fixed'][0]:.1e}"))
+    # l. 477: ν, the ratio of n°5
+    out["nu_n5"] = (p.nu, "the ratio the config takes from n°5 (Coriolis's measurement, line 220), from which "
+                          f"ε = {p.eps:.4g} by §I eq. (9)")
+    # l. 485: n0 = 0 solves in closed form; otherwise no elementary solution
+    z0 = cushion.cushion_impact(chi0, zeta0, p0, 0 * n0, R=R, k=k, j=j, eps=p.eps, method="ode")
+    zphi1 = z0.chi1 - z0.p1 * R
+    from10 = phi0 - np.sign(phi0) * j * (1 + k) * (1 + nu) * a  # (10) with n0 = 0: j(1 + k)(1 + ν)a = ±(φ0 − φ1)
+    zs = np.sign(from10) == np.sign(phi0)
+    out["n0_zero"] = (float(np.max(np.abs(from10 - zphi1)[zs] / a[zs])), (
+        f"largest |φ1 from (10) with n0 = 0, φ0 ∓ j(1 + k)(1 + ν)a, − φ1 integrated|/a over the {int(zs.sum())} of 40 "
+        f"scenes where the slip lasts; in the other {int((~zs).sum())} it stops during the impact and φ1 = 0 (the "
+        f"paper does not say)"))
+    elem = [cushion.binomial_integral_is_elementary(0, -e, 0.5) for e in (e_der, e_pr)]
+    out["not_elementary"] = (float(elem[0]), (
+        f"Chebyshev's theorem on ∫ (1 + c φ^(−2/(1 + k)))^½ dφ for k = {k:g}: elementary = {elem[0]} (with the printed "
+        f"exponent: {elem[1]}); 0 = the claim holds. It would be elementary for k = 1, 3, 5, … The ₂F₁ form "
+        f"(next row) is not elementary"))
+    # l. 487: Résal's small quantity (φ0 − φ)/φ over the figures' scenes (its largest value, at φ = φ1)
+    ph0g, ph1g = chi0g - p0g * R, ex.chi1 - ex.p1 * R
+    moving = ph1g != 0
+    small = np.abs(ph0g - ph1g)[moving] / np.abs(ph1g[moving])
+    out["small_quantity"] = (float(np.max(small)), (
+        f"largest (φ0 − φ1)/φ1 over the figure's grid (ball rolling into the cushion at {p.speed:g} m/s, incidence "
+        f"1°–85°, side spin ±V/R, exact path); it is ≤ j on {np.mean(small <= jj):.1%} of the grid, ≤ 2j on "
+        f"{np.mean(small <= 2 * jj):.1%}, median {np.median(small):.2g}; the slip stops (the quantity is "
+        f"infinite) on {np.mean(~moving):.2%}. It is j(1 + k)(1 + ν)a/|φ0| at first order: of order j only where "
+        f"the slip along the cushion is of the order of (1 + k)(1 + ν)a = {(1 + k) * (1 + nu):.1f} a"))
+    # l. 489: (φ0/φ)^e = (1 + (φ0 − φ)/φ0)^e
+    x = np.linspace(1e-6, jj, 2001)  # x = (φ0 − φ)/φ, Résal's small quantity, up to j
+    printed = (1 + x / (1 + x)) ** e_pr
+    out["expansion_identity"] = (float(np.max(np.abs((1 + x) ** e_pr - printed))), (
+        f"largest |(φ0/φ)^e − (1 + (φ0 − φ)/φ0)^e| for (φ0 − φ)/φ in (0, j], e = (1 + k)/2 as printed: φ0/φ = "
+        f"1 + (φ0 − φ)/φ, not 1 + (φ0 − φ)/φ0; the two agree to first order (the difference over x² stays below "
+        f"{float(np.max(np.abs((1 + x) ** e_pr - printed) / x**2)):.2f}), which is all (11) uses"))
+    # l. 493: (11) as printed is not homogeneous; the repaired form (1/φ0 restored, slip stopped at 0)
+    budget = jj * (1 + nu) * ag
+    f0g, s0g = np.abs(ph0g), np.abs(n0g * R)
+    go = f0g > 0
+    in_m = cushion.eq11_as_printed(f0g[go], s0g[go], k, budget[go], e_pr)
+    in_cm = cushion.eq11_as_printed(100 * f0g[go], 100 * s0g[go], k, 100 * budget[go], e_pr) / 100
+    both = np.isfinite(in_m) & np.isfinite(in_cm)
+    out["eq11_as_printed"] = (float(np.max(np.abs(in_m - in_cm)[both] / ag[go][both])), (
+        f"largest |φ1(11) in m/s − φ1(11) in cm/s|/a over the figure's grid: the term ((1 + k)/2)(n0²R²/φ0²)(φ − φ0) "
+        f"is a velocity added to 1 (the 1/φ0 of the expansion is lost), so the root depends on the unit; "
+        f"{int(np.sum(np.isfinite(in_m) != np.isfinite(in_cm)))} scenes have a root in one unit only. Repaired: "
+        f"the next two rows"))
+    approx = cushion.cushion_impact(chi0g, zeta0g, p0g, n0g, R=R, k=k, j=jj, eps=p.eps, method="resal")
+    err = np.hypot(approx.chi1 - ex.chi1, approx.zeta1 - ex.zeta1) / p.speed
+    rr = np.where(moving, np.abs(ph0g - ph1g) / np.where(moving, np.abs(ph1g), 1.0), np.inf)
+    inside = rr <= jj
+    for key, where, what in (("approx_error", inside, "inside the premise's domain, (φ0 − φ1)/φ1 ≤ j"),
+                             ("approx_error_beyond", ~inside, "beyond it, (φ0 − φ1)/φ1 > j")):
+        w = np.unravel_index(np.argmax(np.where(where, err, -1.0)), err.shape)
+        out[key] = (float(np.max(err[where])), (
+            f"repaired (11) (1/φ0 restored, slip stopped at 0, printed exponent): largest |v1(11) − v1(exact)|/V "
+            f"{what} ({np.mean(where):.1%} of the grid of incidence 1°–85° × side spin ±V/R, V = {p.speed:g} m/s), "
+            f"at incidence {math.degrees(theta[w[1]]):.0f}°, side spin p0R/V = {spin[w[0]]:+.2f}; over the whole "
+            f"grid {float(err.max()):.2g}. O(j²) with the printed exponent, O(j³) with the derived one"))
+    # l. 495: the integral of (11) is elementary
+    from scipy.integrate import quad
+
+    diffs = []
+    for i in np.nonzero(go.ravel())[0][::97]:
+        f0, s0 = f0g.ravel()[i], s0g.ravel()[i]
+        rq = (s0 / f0) ** 2
+        Ai, Bi = 1 + rq + e_pr * rq, -e_pr * rq / f0
+        lo = 0.5 * f0
+        anti = 2 / (3 * Bi) * ((Ai + Bi * f0) ** 1.5 - (Ai + Bi * lo) ** 1.5)
+        diffs.append(abs(anti - quad(lambda t, Ai=Ai, Bi=Bi: math.sqrt(Ai + Bi * t), lo, f0, epsrel=1e-13)[0]) / f0)
+    out["eq11_integrable"] = (float(max(diffs)), (
+        f"largest relative |2/(3B) [(A + Bφ)^(3/2)]_φ^φ0 − ∫_φ^φ0 √(A + Bφ) dφ| (quadrature) over {len(diffs)} "
+        f"scenes of the grid: the repaired (11) integrates in elementary terms, and its root φ1 is explicit"))
+    return out

@@ -174,3 +174,74 @@ def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLi
     regime = np.where(~moving, Regime.NO_SLIP, np.where((f1 == 0) & (s1 == 0), Regime.GRIP, Regime.SLIDE))
     return CushionImpact(chi1=chi1, zeta1=nu * a, p1=(chi1 - phi1) / R, n1=psi1 / R, method=method,
                          path=codes(chi1.shape, _CODES[method]), regime=regime.astype(np.int8), label=label)
+
+
+# ---- §IV n°11, the paper's steps checked one by one (issue 13) ---------------------------------------------
+# These functions rebuild the impact from vectors (no equation of n°11 is used), so that each printed step can
+# be compared with an independent computation. Frame of the paper: Ox along the cushion, Oy vertical, Oz normal
+# to the cushion; the cushion is on the −z side (ζ0 < 0 approaching) and touches the ball at r = −R e_z, at the
+# height of its centre; ω = (n, q, p): n about Ox, q about Oz (the normal), p about Oy (side spin).
+
+def contact_velocity(v: ArrayLike, omega: ArrayLike, R: ArrayLike) -> np.ndarray:
+    """Velocity of the ball's point touching the cushion, v + ω × r with r = −R e_z; ``v`` = (χ, η, ζ) and
+    ``omega`` = (ω_x, ω_y, ω_z) = (n, p, q) along the last axis. Its x, y components are the slip (eq. 1)."""
+    v, omega = np.asarray(v, dtype=float), np.asarray(omega, dtype=float)
+    r = np.zeros(np.broadcast_shapes(v.shape, omega.shape))
+    r[..., 2] = -np.asarray(R, dtype=float)
+    return v + np.cross(omega, r)
+
+
+def rigid_body_rates(v: ArrayLike, omega: ArrayLike, R: ArrayLike, k: ArrayLike,
+                     j: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Rates per unit normal impulse π = (1/M)∫Z dt of the velocity and the rotation under the cushion's
+    reaction alone: the normal push e_z and the Coulomb friction j opposite the slip (the x, y components of
+    ``contact_velocity``), with the moment r × F about the centre and the moment of inertia MR²/k. Newton and
+    Euler in vectors, the independent reference for eqs (1)-(3), (8) and the vertical push the cloth must
+    hold (the premise η = 0). Returns (dv/dπ, dω/dπ), components as in ``contact_velocity``."""
+    v, omega = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(omega, dtype=float))
+    R, k, j = (np.broadcast_to(np.asarray(x, dtype=float), v.shape[:-1])[..., None] for x in (R, k, j))
+    slip = contact_velocity(v, omega, R[..., 0])
+    slip[..., 2] = 0.0
+    speed = np.linalg.norm(slip, axis=-1, keepdims=True)
+    F = -j * slip / np.where(speed > 0, speed, 1.0)
+    F[..., 2] = 1.0
+    r = np.zeros(F.shape)
+    r[..., 2] = -R[..., 0]
+    return F, k / R**2 * np.cross(r, F)
+
+
+def state_after_impulse(chi0: ArrayLike, p0: ArrayLike, n0: ArrayLike, impulse: ArrayLike, *, R: ArrayLike,
+                        k: ArrayLike, j: ArrayLike, rtol: float = 1e-11) -> tuple[np.ndarray, ...]:
+    """(χ, p, n) once the normal impulse per unit mass has reached ``impulse`` (m/s), by the integration of
+    eqs (2) (``_ode``): a point inside the impact, where the paper's running φ, ζ of (8) and the integral of
+    its n°11 stand (ζ − ζ0 = impulse)."""
+    chi0, p0, n0, impulse, R, k, j = np.broadcast_arrays(
+        *(np.asarray(x, dtype=float) for x in (chi0, p0, n0, impulse, R, k, j)))
+    chi, pR, nR = _ode(chi0, p0 * R, n0 * R, k, j, impulse, rtol)
+    return chi, pR / R, nR / R
+
+
+def eq11_as_printed(phi0: ArrayLike, psi0: ArrayLike, k: ArrayLike, budget: ArrayLike,
+                    e: ArrayLike) -> np.ndarray:
+    """φ1 from eq. (11) exactly as printed, j(1 + k)(1 + ν)a = ∫_{φ1}^{φ0} √(1 + r² − e r² (φ − φ0)) dφ with
+    r = n0R/φ0 (φ0 > 0): the last term lacks the 1/φ0 of the expansion above it, so it adds a velocity to a
+    pure number and the root depends on the unit of velocity (nan where there is none). No clip at zero."""
+    phi0, psi0, k, budget, e = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (phi0, psi0, k, budget, e)))
+    r2 = (psi0 / phi0) ** 2
+    A = 1 + r2 + e * r2 * phi0  # √(A + Bφ), as printed
+    B = -e * r2
+    lhs = (1 + k) * budget
+    with np.errstate(invalid="ignore", divide="ignore"):
+        inner = (A + B * phi0) ** 1.5 - 1.5 * B * lhs
+        curved = (np.where(inner >= 0, np.cbrt(inner), np.nan) ** 2 - A) / B
+    return np.where(B == 0, phi0 - lhs / np.sqrt(A), curved)
+
+
+def binomial_integral_is_elementary(m: float, n: float, p: float, max_den: int = 1000) -> bool:
+    """Chebyshev's theorem (1853) on ∫ x^m (a + b x^n)^p dx with rational m, n, p and ab ≠ 0: it is elementary
+    iff p, (m + 1)/n or (m + 1)/n + p is an integer. The integral (10) of n°11 is of this form with x = φ,
+    m = 0, n = −2/(1 + k) (−(1 + k)/2 as printed), p = ½."""
+    from fractions import Fraction
+
+    m_, n_, p_ = (Fraction(x).limit_denominator(max_den) for x in (m, n, p))
+    return any(x.denominator == 1 for x in (p_, (m_ + 1) / n_, (m_ + 1) / n_ + p_))
