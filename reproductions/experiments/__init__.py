@@ -5,9 +5,9 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from . import ballball, cloth, cue, cushion, pendulum, rebound, ricochet
+from . import ballball, cloth, cue, cushion, impact_law, pendulum, rebound, ricochet
 
 KINDS: dict[str, ModuleType] = {
-    "cloth": cloth, "cue": cue, "cushion": cushion, "pendulum": pendulum, "rebound": rebound, "ricochet": ricochet,
-    "spheres": ballball,
+    "cloth": cloth, "cue": cue, "cushion": cushion, "impact_law": impact_law, "pendulum": pendulum, "rebound": rebound,
+    "ricochet": ricochet, "spheres": ballball,
 }

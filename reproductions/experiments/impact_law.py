@@ -1,0 +1,300 @@
+"""Kind ``impact_law``: §I n°2–4, the two principles of impact and the energy-loss law, eqs (1)–(6).
+
+Résal derives his law molecule by molecule (fig. 1): the vis viva lost is Σm(φ0² − φ1²) + 2ΣmU·u (eq. 1);
+at the greatest compression the bodies move rigidly with equal normal contact velocities (n°2), so the
+last term is −2Jω (eq. 2); with φ1 = −nφ0 it is εU² (eq. 3), and so on to (6). Each step is checked here on
+explicit molecular configurations (``impact.molecular_impact``: rigid motion at the greatest compression,
+contact and central internal impulses; nothing of the equations is used to build them), on direct impacts
+integrated as a two-phase contact (``reference.integrate_direct_impact``), on a sphere striking a plane with
+friction (§III's exact outcome) and on elastic chains (``impact.chain_at_greatest_compression``), sampled where
+the claims could fail: ε = 0, large friction, a slip that stops, bodies that are not rigid.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..config import Experiment, Node
+from ..mechanics import impact, reference
+from .base import Computed, Reproduction, modern_rows, read_ball, rows_for
+
+QUANTITIES = (
+    "principle_normal_equal", "principle_rigid", "vis_viva_decreases", "eq1_geometry", "eq1_molecule", "eq1",
+    "eq2_as_digitised", "eq2", "premise_opposite_in", "premise_opposite_out", "eq3_step_magnitudes", "eq3_step",
+    "eq3", "eq4", "elastic_literal", "elastic", "eq5", "eps_differ_premise", "eq6", "several_bodies",
+    "eps_not_specific", "balls_eps_small", "n4_sliding", "n4_slip_stops",
+)
+MODERN = ("e_bb",)
+MAX_SCENES = 10_000
+
+
+@dataclass(frozen=True)
+class Params:
+    scenes: int  # random configurations per check
+    R: float
+    k: float
+    molecules: int  # per body, for the molecular configurations and the chains
+    taus: tuple[float, ...]  # contact time over wave transit time of the chains
+    cushion_ratio: float  # −V1/V0 of a ball on the cushion (n°5, Coriolis)
+    marble_height_ratio: float  # rebound height ratio of a ball dropped on marble (n°5)
+
+
+def parse(node: Node, base: Path) -> Params:
+    scenes = node.integer("scenes", "a number of random scenes per check", lo=10, hi=MAX_SCENES)
+    R, k = read_ball(node)
+    c = node.child("chain", "a mapping with molecules and tau")
+    molecules = c.integer("molecules", "a number of molecules per body", lo=3, hi=200)
+    taus = c.number_list("tau", "contact times over wave transit times, > 0")
+    if any(t <= 0 for t in taus) or len(taus) > 50:
+        raise c.fail(f"'{c.path}.tau' must be at most 50 positive numbers")
+    c.done()
+    d = node.child("data", "a mapping with cushion_ratio and marble_height_ratio")
+    cushion = d.number("cushion_ratio", "a velocity ratio", lo=0.0, hi=1.0)
+    marble = d.number("marble_height_ratio", "a height ratio", lo=0.0, hi=1.0)
+    d.done()
+    node.done()
+    return Params(scenes, R, k, molecules, taus, cushion, marble)
+
+
+def _rel(a: float, scale: float) -> float:
+    return abs(a) / scale
+
+
+def _molecular(p: Params, rng: np.random.Generator) -> dict[str, float]:
+    """Largest relative discrepancies of eqs (1)–(6) over random molecular configurations."""
+    out = dict.fromkeys(("eq1_geometry", "eq1_molecule", "eq1", "eq2_as_digitised", "eq2", "eq3_step_magnitudes",
+                         "eq3_step", "eq3", "eq5", "eq6", "several_bodies", "law_min_loss"), 0.0)
+    out["eq2_as_digitised"] = float("inf")
+    worst_digitised = 0.0
+    for i in range(p.scenes):
+        # eq. (1) and its geometric steps hold for any velocities: independent restitution impulses
+        s = impact.molecular_impact(rng, molecules=p.molecules, n=None)
+        scale = impact.vis_viva(s.m, s.v0) + impact.vis_viva(s.m, s.v1)
+        g0, g1, proj = impact.eq1_per_molecule(s.v0, s.v1, s.u)
+        v2 = np.sum(s.v0**2, axis=1) + np.sum(s.v1**2, axis=1) + np.sum(s.u**2, axis=1)
+        out["eq1_geometry"] = max(out["eq1_geometry"], float(np.max(np.abs(np.r_[g0, g1]) / np.r_[v2, v2])),
+                                  float(np.max(np.abs(proj) / np.sqrt(v2))))
+        phi0, phi1, U = s.v0 - s.u, s.v1 - s.u, s.v0 - s.v1
+        sq = lambda a: np.sum(a * a, axis=1)  # noqa: E731
+        un = np.linalg.norm(s.u, axis=1)
+        cosUu = np.sum(U * s.u, axis=1) / (np.linalg.norm(U, axis=1) * un)
+        per = s.m * (sq(s.v0) - sq(s.v1)) - (s.m * (sq(phi0) - sq(phi1)) + 2 * s.m * np.linalg.norm(U, axis=1)
+                                               * cosUu * un)
+        out["eq1_molecule"] = max(out["eq1_molecule"], float(np.max(np.abs(per) / (s.m * v2))))
+        lhs = impact.vis_viva(s.m, s.v0) - impact.vis_viva(s.m, s.v1)
+        work = float(np.sum(s.m * np.sum(U * s.u, axis=1)))  # Σ m U cos(U, u) u
+        out["eq1"] = max(out["eq1"], _rel(lhs - (float(np.sum(s.m * (sq(phi0) - sq(phi1)))) + 2 * work), scale))
+        out["eq2"] = max(out["eq2"], _rel(lhs - (float(np.sum(s.m * (sq(phi0) - sq(phi1)))) - 2 * s.J_omega), scale))
+        # the digitised line: Σ m U cos(U, u) = −Jω, without the factor u (compared with the same scale)
+        no_u = float(np.sum(s.m * np.linalg.norm(U, axis=1) * cosUu))
+        worst_digitised = max(worst_digitised, abs(no_u + s.J_omega) / (abs(work) + abs(s.J_omega)))
+        # eq. (3)'s step: φ1 = −nφ0 molecule by molecule, n varying from one molecule to another
+        n_i = rng.uniform(0.0, 1.0, s.m.size)
+        f1 = -n_i[:, None] * phi0
+        Ui = phi0 - f1
+        eps_i = (1 - n_i) / (1 + n_i)
+        out["eq3_step"] = max(out["eq3_step"], float(np.max(np.abs(sq(phi0) - sq(f1) - eps_i * sq(Ui)) / sq(Ui))))
+        nU = np.linalg.norm(Ui, axis=1)
+        mags = np.r_[nU - np.linalg.norm(phi0, axis=1) * (1 + n_i), np.linalg.norm(phi0, axis=1) - nU / (1 + n_i),
+                     np.linalg.norm(f1, axis=1) - n_i * nU / (1 + n_i)]
+        out["eq3_step_magnitudes"] = max(out["eq3_step_magnitudes"], float(np.max(np.abs(mags)) / np.max(nU)))
+        # eqs (3), (5), (6): the premise, restitution impulses n times the compression ones (n the same for all
+        # molecules: with momentum it cannot differ between the bodies, see eps_differ_premise)
+        n = float(rng.uniform(0.0, 1.0)) if i % 4 else (1.0 if i % 8 == 0 else 0.0)
+        s = impact.molecular_impact(rng, molecules=p.molecules, n=n)
+        U = s.v0 - s.v1
+        lhs = impact.vis_viva(s.m, s.v0) - impact.vis_viva(s.m, s.v1)
+        scale = impact.vis_viva(s.m, s.v0) + impact.vis_viva(s.m, s.v1)
+        eps = (1 - n) / (1 + n)
+        mU2 = s.m * sq(U)
+        out["eq3"] = max(out["eq3"], _rel(lhs - (float(np.sum(eps * mU2)) - 2 * s.J_omega), scale))
+        phi0, phi1 = s.v0 - s.u, s.v1 - s.u
+        eps_mol = (1 - np.linalg.norm(phi1, axis=1) / np.linalg.norm(phi0, axis=1)) / (
+            1 + np.linalg.norm(phi1, axis=1) / np.linalg.norm(phi0, axis=1))  # each molecule's own ε
+        S, Sp = s.body == 0, s.body == 1
+        out["eq5"] = max(out["eq5"], _rel(lhs - (float(np.sum((eps_mol * mU2)[S]) + np.sum((eps_mol * mU2)[Sp]))
+                                                 - 2 * s.J_omega), scale))
+        out["eq6"] = max(out["eq6"], _rel(lhs - (eps * float(np.sum(mU2[S])) + eps * float(np.sum(mU2[Sp]))
+                                                 - 2 * s.J_omega), scale))
+        out["law_min_loss"] = min(out["law_min_loss"], (float(np.sum(eps * mU2)) - 2 * s.J_omega) / scale)
+        # several bodies struck at once (three bodies, two contacts)
+        s = impact.molecular_impact(rng, bodies=3, molecules=p.molecules, n=None)
+        phi0, phi1 = s.v0 - s.u, s.v1 - s.u
+        lhs = impact.vis_viva(s.m, s.v0) - impact.vis_viva(s.m, s.v1)
+        scale = impact.vis_viva(s.m, s.v0) + impact.vis_viva(s.m, s.v1)
+        out["several_bodies"] = max(out["several_bodies"],
+                                    _rel(lhs - (float(np.sum(s.m * (sq(phi0) - sq(phi1)))) - 2 * s.J_omega), scale))
+    out["eq2_as_digitised"] = worst_digitised
+    return out
+
+
+def _direct(p: Params, rng: np.random.Generator) -> dict[str, float]:
+    """Direct impacts (§I n°5) integrated as a two-phase contact: Carnot's plastic case (e = 0), the perfectly
+    elastic one (e = 1), and (7)'s outcome read with the premise of eq. (3)."""
+    n = min(p.scenes, 40)
+    M, Mp = rng.uniform(0.1, 5.0, (2, n))
+    V0 = rng.uniform(0.5, 3.0, n)
+    V0p = V0 - rng.uniform(0.2, 3.0, n)
+    ini = M * V0**2 + Mp * V0p**2
+    plastic = reference.integrate_direct_impact(M, Mp, V0, V0p, 0.0)
+    loss0 = ini - (M * plastic.V1**2 + Mp * plastic.V1p**2)
+    carnot = M * (V0 - plastic.V1) ** 2 + Mp * (V0p - plastic.V1p) ** 2
+    elastic = reference.integrate_direct_impact(M, Mp, V0, V0p, 1.0)
+    loss1 = ini - (M * elastic.V1**2 + Mp * elastic.V1p**2)
+    u = (M * V0 + Mp * V0p) / (M + Mp)  # common velocity at the greatest compression
+    phi_sum = np.maximum(np.abs((V0 - u) + (elastic.V1 - u)), np.abs((V0p - u) + (elastic.V1p - u)))
+    literal = np.maximum(np.abs(elastic.V1 + V0), np.abs(elastic.V1p + V0p)) / (V0 - V0p)
+    e = rng.uniform(0.0, 1.0, n)
+    e[:2] = (0.0, 1.0)
+    any_e = reference.integrate_direct_impact(M, Mp, V0, V0p, e)
+    loss_e = (ini - (M * any_e.V1**2 + Mp * any_e.V1p**2)) / ini
+    # (7) with ε ≠ ε′: each body's own n = −φ1/φ0, and the ε = (1 − n)/(1 + n) that the premise gives it
+    eps, epsp = rng.uniform(0.0, 0.9, (2, n))
+    out7 = impact.direct_impact(M, Mp, V0, V0p, eps=eps, epsp=epsp)
+    n_a = (u - out7.V1) / (V0 - u)
+    n_b = (out7.V1p - u) / (u - V0p)
+    eps_kin = (1 - n_a) / (1 + n_a)
+    return {
+        "eq4": float(np.max(np.abs(loss0 - carnot) / ini)),
+        "elastic": float(max(np.max(np.abs(loss1) / ini), np.max(phi_sum / (V0 - V0p)))),
+        "elastic_literal": float(np.max(literal)),
+        "direct_min_loss": float(np.min(loss_e)),
+        "n_equal": float(np.max(np.abs(n_a - n_b))),
+        "eps_differ_premise": float(np.max(np.maximum(np.abs(eps_kin - eps), np.abs(eps_kin - epsp)))),
+    }
+
+
+def _plane(p: Params, rng: np.random.Generator) -> dict[str, np.ndarray]:
+    """Sphere–plane impacts with friction, drawn where the premises could fail: slips that stop early or late,
+    ν = 1 (ε = 0) and ν = 0, friction up to 1, grazing and normal incidence, zero and large spin."""
+    n = p.scenes * 10
+    V = rng.uniform(0.1, 7.0, n)
+    alpha = rng.uniform(0.0, np.pi / 2, n)  # angle from the plane: 0 grazing, π/2 normal
+    alpha[: n // 10] = rng.uniform(0.0, 0.02, n // 10)
+    chi0, zeta0 = V * np.cos(alpha), -V * np.sin(alpha) - 1e-3
+    p0 = rng.normal(0.0, 1.0, n) * V / p.R
+    p0[n // 10: n // 5] = 0.0
+    f = rng.uniform(0.0, 1.0, n)
+    nu = rng.uniform(0.0, 1.0, n)
+    nu[::7], nu[1::7] = 1.0, 0.0
+    f[2::11] = 0.0
+    return impact.sphere_plane_law(chi0, zeta0, p0, R=p.R, k=p.k, f=f, nu=nu)
+
+
+def run(exp: Experiment) -> Reproduction:
+    p: Params = exp.params
+    rng = np.random.default_rng(exp.seed)
+    mol = _molecular(p, rng)
+    direct = _direct(p, rng)
+    plane = _plane(p, rng)
+    chains = {t: impact.chain_at_greatest_compression(t, molecules=p.molecules) for t in p.taus}
+    sliding = plane["sliding"]
+    err = np.abs(plane["law_loss"] - plane["exact_loss"]) / plane["initial"]
+    angle = plane["premise_angle"]
+    frictionless_or_sliding = sliding
+    min_loss = min(mol["law_min_loss"], direct["direct_min_loss"], float(np.min(plane["exact_loss"]
+                                                                                / plane["initial"])))
+    eps_c = float(impact.eps_from_velocity_ratio(p.cushion_ratio))
+    eps_m = float(impact.eps_from_height_ratio(p.marble_height_ratio))
+    # ε of each datum printed to two decimals at best: the cushion's 0,55 moves ε by ±0.004
+    band = abs(float(impact.eps_from_velocity_ratio(p.cushion_ratio - 0.005)) - eps_c)
+    apart = max(0.0, band - abs(eps_c - eps_m))
+    rigid = max(c["rigid_departure"] for c in chains.values())
+    per_tau = "; ".join(f"τ = {t:g}: {c['rigid_departure']:.3g}" for t, c in chains.items())
+    stops = ~sliding
+    how_mol = f"largest |left − right| / (Σ m v0² + Σ m v1²) over {p.scenes} random molecular configurations"
+
+    def diag(text: str):
+        return lambda _printed: text
+
+    computed = {
+        "principle_normal_equal": Computed(
+            max(c["normal_difference"] for c in chains.values()),
+            f"elastic chains of {p.molecules} molecules per body (contact over wave-transit time τ in "
+            f"{', '.join(f'{t:g}' for t in p.taus)}): |difference of the contact molecules' normal velocities| / "
+            "approach speed at the first greatest compression (kinematics: the overlap stops growing there)"),
+        "principle_rigid": Computed(
+            rigid, "largest |molecule velocity − its body's mean| / approach speed at the greatest compression",
+            diag(f"the bodies are not rigid at the greatest compression unless the contact lasts many times the "
+                 f"time a wave takes to cross them: departure from a rigid motion {per_tau} (about 1/τ²; billiard "
+                 "balls, contact ≈ 0.2 ms against ≈ 0.03 ms for a wave to cross, sit near τ ≈ 10). Eq. (2) rests "
+                 "on this rigidity")),
+        "vis_viva_decreases": Computed(
+            max(0.0, -min_loss),
+            f"gain of vis viva (0 if none) over: eq. (3) on molecular configurations with n in [0, 1] (ε = 0 "
+            f"included), direct impacts integrated for e in [0, 1] (e = 1 included), {plane['initial'].size} exact "
+            f"sphere–plane impacts with f ≤ 1, ν in [0, 1] (ν = 1 included), grazing to normal; the smallest loss "
+            f"is {min_loss:.3g} of the vis viva: zero, not less, for perfectly elastic frictionless bodies, which "
+            "the paper excludes from nature (n°3)"),
+        "eq1_geometry": Computed(mol["eq1_geometry"], "largest |v0² − (u² + φ0² + 2u·uI0)| / (v0² + v1² + u²) and "
+                                                      "|I0I1 − U cos(U, u)| / |v|, I0, I1 projected on Ou"),
+        "eq1_molecule": Computed(mol["eq1_molecule"], "largest per-molecule discrepancy / (m (v0² + v1² + u²))"),
+        "eq1": Computed(mol["eq1"], how_mol + " (restitution impulses independent of the compression ones)"),
+        "eq2_as_digitised": Computed(
+            mol["eq2_as_digitised"], "largest |Σ m U cos(U, u) + Jω| / (|Σ m U cos(U, u) u| + |Jω|)",
+            diag("the digitised line 'Σ m U cos(U, u) dt = −Jω dt' lacks the factor u of the line above it "
+                 "('Σ m U cos(U, u) u dt'); as digitised it is not even homogeneous (a momentum against a work), "
+                 "the likely original, with u, is eq. (2)'s step and holds (row eq2)")),
+        "eq2": Computed(mol["eq2"], how_mol + "; rigid motion at the greatest compression, contact and central "
+                                              "internal impulses, tangential impulses of either sign"),
+        "premise_opposite_in": Computed(
+            float(np.max(angle[frictionless_or_sliding])),
+            f"largest angle (rad) between φ1 and −φ0 over the ball's molecules in the "
+            f"{int(frictionless_or_sliding.sum())} sphere–plane impacts whose slip lasts the whole impact "
+            "(frictionless ones included): the impulse keeps one direction"),
+        "premise_opposite_out": Computed(
+            float(np.max(angle[stops])),
+            f"largest angle (rad) between φ1 and −φ0 in the {int(stops.sum())} impacts whose slip stops",
+            diag(f"where the slip stops during the impact the restitution's impulse is not parallel to the "
+                 f"compression's and φ1 is not opposite φ0: up to {np.degrees(np.max(angle[stops])):.1f}° (median "
+                 f"{np.degrees(np.median(angle[stops])):.1f}°); the premise holds only while the slip lasts")),
+        "eq3_step_magnitudes": Computed(
+            mol["eq3_step_magnitudes"], "largest |U − φ0(1 + n)|, |φ0 − U/(1 + n)|, |φ1 − nU/(1 + n)| / |U|, "
+                                        "φ1 = −nφ0 molecule by molecule (the digitised 'U = φ + φ0' reads φ for φ1)"),
+        "eq3_step": Computed(mol["eq3_step"], "largest |φ0² − φ1² − εU²| / U² with φ1 = −nφ0, n random per molecule"),
+        "eq3": Computed(mol["eq3"], how_mol + "; restitution impulses n times the compression ones, n in [0, 1]"),
+        "eq4": Computed(direct["eq4"], "largest |vis viva lost − (M U² + M′ U′²)| / initial vis viva, direct "
+                                       "impacts integrated with e = 0 (Carnot's theorem)"),
+        "elastic_literal": Computed(
+            direct["elastic_literal"], "largest |v1 + v0| / (V0 − V0′), direct impacts integrated with e = 1",
+            diag("read literally ('les vitesses des molécules à la fin du choc seraient égales et de sens "
+                 "contraire à ce qu'elles étaient au commencement', v1 = −v0) the sentence is false: equal masses "
+                 "exchange velocities. Corrected: the velocities relative to the motion at the greatest "
+                 "compression are reversed, φ1 = −φ0 (n = 1), which holds (row elastic)")),
+        "elastic": Computed(direct["elastic"], "largest of |vis viva lost| / initial and |φ0 + φ1| / (V0 − V0′), "
+                                               "direct impacts integrated with e = 1"),
+        "eq5": Computed(mol["eq5"], how_mol + "; each molecule's own ε = (1 − |φ1|/|φ0|)/(1 + |φ1|/|φ0|), sums S "
+                                              "over M, S′ over M′ (digitised: 'Σ m v²', 'S′ε′ m U′²' for Σ m v1², "
+                                              "S′ε′ m′ U′²)"),
+        "eps_differ_premise": Computed(
+            direct["eps_differ_premise"],
+            "largest |(1 − n)/(1 + n) − ε| or − ε′| over (7)'s outcomes with random ε ≠ ε′, n = −φ1/φ0 of a body",
+            diag(f"momentum makes the two bodies' n equal (M(V0 − u) = M′(u − V0′) and M(u − V1) = M′(V1′ − u); "
+                 f"|n − n′| ≤ {direct['n_equal']:.1g}), so under the premise φ1 = −nφ0 of eq. (3) the bodies share "
+                 "one ε = (1 − e)/(1 + e), Newton's e; a pair ε ≠ ε′ is not that premise but an empirical law, "
+                 "as the end of n°3 concedes (vibrations)")),
+        "eq6": Computed(mol["eq6"], how_mol + "; ε constant for each body"),
+        "several_bodies": Computed(mol["several_bodies"], how_mol.replace("molecular", "three-body molecular")
+                                   + ", a 2Jω term per contact"),
+        "eps_not_specific": Computed(
+            apart, f"ε of the same ball on the cushion ({eps_c:.4f}, −V1/V0 = {p.cushion_ratio:g}) and on marble "
+                   f"({eps_m:.4f}, height ratio {p.marble_height_ratio:.4g}): how much less than the rounding of "
+                   f"the cushion's datum (±{band:.4f} in ε) they differ (0: they differ beyond it)"),
+        "balls_eps_small": Computed(None, "no value of ε for two balls in the paper; see today's e_bb"),
+        "n4_sliding": Computed(
+            float(np.max(err[sliding])),
+            f"largest |eq. (6)'s loss (ε = (1 − ν)/(1 + ν)) − exact loss| / initial vis viva over the "
+            f"{int(sliding.sum())} sphere–plane impacts whose slip lasts the whole impact"),
+        "n4_slip_stops": Computed(
+            float(np.max(err[stops])), f"the same over the {int(stops.sum())} impacts whose slip stops",
+            diag(f"where the slip stops, eq. (6) with the ε of the normal ratio misstates the loss by up to "
+                 f"{np.max(err[stops]):.3g} of the vis viva (median {np.median(err[stops]):.3g}): the principle "
+                 "of a constant normal ratio and eq. (6) are then two different laws, and the choice of the "
+                 "principle is an assumption")),
+    }
+    modern = modern_rows(exp.modern, {"e_bb": (None, "ε of two balls is not given: 'très petite' "
+                                                             "(ε = 0.01–0.06 from e_bb = 0.89–0.98)")})
+    return Reproduction(exp, rows_for(exp, computed), (), (), modern)
