@@ -106,3 +106,58 @@ def test_range_ratio_8_is_exact_while_sliding_and_9_is_its_small_angle_limit():
 def test_plane_impact_rejects_an_unknown_method():
     with pytest.raises(ValueError, match="method"):
         plane.plane_impact(1.0, -1.0, 0.0, R=0.03, k=2.5, f=0.2, nu=0.8, method="fast")
+
+
+def _scene_3d(rng):
+    return (np.array([rng.uniform(-3, 3), rng.uniform(-3, 3), -rng.uniform(0.1, 3)]), rng.uniform(-3, 3, 3),
+            rng.uniform(0, 0.6), rng.uniform(0.3, 1.0))
+
+
+def test_the_3d_vector_impact_agrees_with_the_closed_form_in_axes_along_the_slip():
+    """§III n°8: the Newton–Euler impact in three dimensions keeps the slip's direction (so (3) holds in axes along
+    it), ignores q, and then gives the closed form of both regimes."""
+    rng = np.random.default_rng(11)
+    regimes = set()
+    for _ in range(40):
+        v0, Rw0, f, nu = _scene_3d(rng)
+        out = plane.integrate_impact_3d(v0, Rw0, k=2.5, f=f, nu=nu)
+        assert out.turn < 1e-10
+        u = plane.slip_velocity(v0, Rw0)
+        c, s = u[:2] / np.hypot(*u[:2])
+        rot = np.array([[c, s], [-s, c]])
+        chi0, eta0 = rot @ v0[:2]
+        n0R, p0R = rot @ Rw0[:2]
+        ref = plane.plane_impact(chi0, v0[2], p0R, R=1.0, k=2.5, f=f, nu=nu)
+        chi1, eta1 = rot @ out.v1[:2]
+        n1R, p1R = rot @ out.Rw1[:2]
+        assert chi1 == pytest.approx(float(ref.chi1), abs=1e-9) and p1R == pytest.approx(float(ref.p1), abs=1e-9)
+        assert eta1 == pytest.approx(eta0, abs=1e-9) and n1R == pytest.approx(n0R, abs=1e-9)  # eqs (3)
+        assert out.v1[2] == pytest.approx(-nu * v0[2]) and out.Rw1[2] == Rw0[2]  # ζ1 = −νζ0; q constant
+        no_q = plane.integrate_impact_3d(v0, Rw0 * [1, 1, 0], k=2.5, f=f, nu=nu)
+        np.testing.assert_allclose(no_q.v1, out.v1, atol=1e-9)
+        regimes.add(int(ref.regime))
+    assert regimes == {int(Regime.SLIDE), int(Regime.GRIP)}
+
+
+def test_the_vector_rates_are_the_likely_original_eqs_2_not_the_digitised_ones():
+    """The digitised (2) swaps v_x and v_y in its last two lines; §II's (2) and (3)-(4) need them as computed."""
+    v, Rw, f, k = np.array([1.0, 0.5, -1.0]), np.array([0.3, -0.2, 0.7]), 0.2, 2.5
+    u = plane.slip_velocity(v, Rw)
+    np.testing.assert_allclose(u[:2], [v[0] - Rw[1], v[1] + Rw[0]], atol=1e-15)  # eq (1): χ − pR, η + nR
+    dv, dw = plane.impact_rates(v, Rw, k=k, f=f)
+    ux, uy = u[:2] / np.hypot(*u[:2])
+    np.testing.assert_allclose(dv, [-ux * f, -uy * f, 1.0], atol=1e-15)
+    np.testing.assert_allclose(dw[:2], [-uy * f * k, ux * f * k], atol=1e-15)  # n with v_y, p with v_x
+    assert abs(dw[0] - (-ux * f * k)) > 0.1 and abs(dw[1] - uy * f * k) > 0.1  # the digitised lines are off
+
+
+def test_side_spin_about_the_line_of_flight_moves_the_ricochets_out_of_their_plane():
+    a0, al = 2.0, 0.4
+    v0 = [a0 * math.cos(al), 0.0, -a0 * math.sin(al)]
+    flat, _ = plane.ricochet_3d(v0, [0.0, -0.5, 0.0], k=2.5, f=0.2, nu=0.8, g=9.81, n=5)
+    side, _ = plane.ricochet_3d(v0, [1.0, -0.5, 0.0], k=2.5, f=0.2, nu=0.8, g=9.81, n=5)
+    assert np.all(flat[:, 1] == 0.0)
+    assert abs(side[-1, 1]) > 0.05 * abs(side[-1, 0])
+    # in the plane the 3-D ricochet is the closed-form one
+    r = plane.ricochet(a0, al, -0.5, R=1.0, k=2.5, f=0.2, nu=0.8, g=9.81, n=5)
+    np.testing.assert_allclose(flat[:, 0], r.imprints, rtol=1e-9)

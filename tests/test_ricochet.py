@@ -9,6 +9,7 @@ from reproductions import api, fitting
 from reproductions.errors import InputError
 from reproductions.experiments import ricochet as rc
 from reproductions.mechanics import plane
+from reproductions.mechanics.paths import Regime
 
 
 @pytest.fixture(scope="module")
@@ -163,3 +164,71 @@ def test_positions_only_report_does_not_move_with_one_ulp_of_data():
     assert fb.point == pytest.approx(fa.point, rel=1e-10)
     assert fb.family.ranges[1] == pytest.approx(fa.family.ranges[1], rel=1e-10)
     assert np.allclose(fb.identifiability.null_directions, fa.identifiability.null_directions, rtol=0, atol=1e-10)
+
+
+# ---- issue 13: each finding of a row that differs, checked ---------------------------------------------------
+def test_ocr_rows_their_likely_originals_reproduce(rep):
+    v = {r.id: r for r in rep.rows}
+    p = api.load("roze-ricochets")
+    checks = rc.formula_checks(p.params, p.seed)
+    assert v["eq2"].computed > 0.1 and v["eq2_original"].computed < 1e-12  # (2) with M dζ/dt = Z, v_y/v_x swapped
+    assert v["eq4"].computed == 1.0 and v["eq4_original"].computed < 1e-12  # (4) with dχ/dt, dζ/dt
+    assert checks["range_ratio"] > 0.1 and checks["range_ratio_original"] < 1e-9  # the ratio with a for α
+
+
+def test_erratum_the_range_of_a_flight_is_twice_the_printed_one():
+    p = api.load("roze-ricochets")
+    checks = rc.formula_checks(p.params, p.seed)
+    assert checks["range_corrected"] < 1e-9  # 2 a² sin α cos α / g is the integrated flight
+    assert checks["range_formula"] == pytest.approx(0.5, rel=1e-9)
+
+
+def test_rounding_the_footnotes_root_of_two_thirds_is_truncated():
+    root = np.sqrt(2 / 3)
+    assert round(root, 2) == 0.82 and np.floor(root * 100) / 100 == 0.81  # printed 0,81: truncated, not rounded
+    assert round(root, 1) == round(0.81, 1) == 0.8  # at one digit fewer the printed and computed values agree
+
+
+def test_assumption_the_sliding_formulas_fail_only_where_the_slip_stops(rep):
+    v = {r.id: r for r in rep.rows}
+    for rid in ("eq5", "eq6", "eq7", "eq8"):
+        assert v[rid].computed < 1e-12 and v[rid + "_beyond"].computed > 0.1, rid
+    # the exact gripping outcome that (7) misses: the ball leaves rolling, tan α1 = ν (1 + k) tan α0 / k
+    a, f, nu, k = 0.6, 0.4, 0.8, 2.5
+    out = plane.plane_impact(np.cos(a), -np.sin(a), 0.0, R=1.0, k=k, f=f, nu=nu)
+    assert out.zeta1 / out.chi1 == pytest.approx(nu * (1 + k) / k * np.tan(a), rel=1e-12)
+    assert f * (1 + nu) * np.tan(a) < 1  # (7) gives a finite, wrong, angle there
+    assert nu * np.tan(a) / (1 - f * (1 + nu) * np.tan(a)) != pytest.approx(out.zeta1 / out.chi1, rel=0.01)
+
+
+def test_assumption_angles_grow_for_nu_near_one_however_small_f_tan_alpha():
+    f, a, k = 0.1, np.arctan(0.3), 2.5  # f tan α0 = 0,03, « négligeable »
+    for nu, grows in ((0.95, True), (0.85, False), (0.63, False)):
+        out = plane.plane_impact(np.cos(a), -np.sin(a), 0.0, R=1.0, k=k, f=f, nu=nu)
+        assert (out.zeta1 / out.chi1 > np.tan(a)) == grows, nu
+        assert grows == (f * (1 + nu) * np.tan(a) > 1 - nu)  # the exact condition, from the third of (7)
+    assert rc.angles_claim((0.3, 1.0)) > 0.05 and rc.angles_claim(rc.NU_HARD) == 0.0
+
+
+def test_premise_of_9_error_is_of_the_order_of_f_tan_alpha_but_up_to_twice_it():
+    p = api.load("roze-ricochets").params
+    per_u, u2, beyond = rc.premise_9(p)
+    assert 1.9 < per_u < 2.5  # (1 + ν)/(1 − (1 + ν)u) at ν = 1, u = 0,05: 2,22
+    nu = 0.8
+    exact = plane.range_ratio_exact(np.arctan(u2 / 0.2), f=0.2, nu=nu, k=p.k)
+    assert abs(nu - exact) / exact == pytest.approx(0.005, rel=1e-6)  # (9) within 0,5 % needs f tan α0 ≤ u2
+    assert beyond == pytest.approx(1 / (p.k / (1 + p.k)) - 1, rel=1e-9)  # gripping: νk/(1 + k), (9) 40 % off
+
+
+def test_assumption_roze_mean_ratio_underestimates_nu_and_spin_makes_it_worse():
+    p = api.load("roze-ricochets").params
+    assert rc.mean_ratio_bias(p, 0.0) < 0.03 < rc.mean_ratio_bias(p, 0.5)
+    # the mean of consecutive ratios is never above ν without spin: friction only shortens the sliding flights
+    r = plane.ricochet(1.0, np.radians(np.linspace(1, 60, 30))[:, None], 0.0, R=1.0, k=p.k,
+                       f=np.linspace(0.01, 0.5, 20)[None, :], nu=0.8, g=p.g, n=rc.IMPRINTS - 1)
+    mean = (r.ranges[..., 1:] / r.ranges[..., :-1]).mean(axis=-1)
+    assert np.all(mean <= 0.8 * (1 + 1e-12))
+    # back spin keeps the ball sliding: 12 imprints at α0 = 60°, f = 0,04, p0R = −0,5 a0
+    rb = plane.ricochet(1.0, np.radians(60), -0.5, R=1.0, k=p.k, f=0.04, nu=0.8, g=p.g, n=rc.IMPRINTS - 1)
+    assert np.all(rb.regimes == Regime.SLIDE)  # it slides at every one of the 11 impacts
+    assert (rb.ranges[1:] / rb.ranges[:-1]).mean() < 0.8 * 0.97

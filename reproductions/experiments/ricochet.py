@@ -397,7 +397,8 @@ def run(exp: Experiment) -> Reproduction:
     computed["range_ratio"] = Computed(checks["range_ratio"], how, lambda _p: (
         "as digitised the ratio reads α1² sin α1 cos α1 / (α0² sin α0 cos α0), the angles α for the speeds a: an "
         "OCR slip. The original most likely printed a1² sin α1 cos α1 / (a0² sin α0 cos α0), right (the factor 2 "
-        f"missing from P0 and P1 cancels): it agrees with the integrated flights to {checks['range_ratio_original']:.1e}"))
+        "missing from P0 and P1 cancels): it agrees with the integrated flights to "
+        f"{checks['range_ratio_original']:.1e}"))
     computed["eq8_all_regimes"] = Computed(checks["eq8_all_regimes"], how, lambda _p: (
         f"(8) is exact while the contact slides; where the slip stops during an impact the exact ratio is "
         f"ν(kχ0 + p0R)/((1 + k)χ0) and (8) errs by up to {checks['eq8_all_regimes']:.0%} (see the error map)"))
