@@ -18,10 +18,12 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.integrate import solve_ivp
 
 from .paths import PathCode, Regime, codes
 
-__all__ = ["ClothMotion", "centre_of_oscillation", "slide", "state_at"]
+__all__ = ["ClothMotion", "centre_of_oscillation", "pendulum_centre_height", "point_velocity", "rigid_jac", "rigid_rhs",
+           "slide", "state_at"]
 
 
 @dataclass(frozen=True)
@@ -102,3 +104,73 @@ def centre_of_oscillation(R: ArrayLike, k: ArrayLike = 2.5) -> np.ndarray:
     the point of the vertical at height h moves at (χ + hp, η − hn), whose derivative is −fg û (1 − kh/R),
     zero for h = R/k; a horizontal stroke at that height gives v = Rω, immediate rolling."""
     return np.asarray(R, dtype=float) / np.asarray(k, dtype=float)
+
+
+# -- the ball as a rigid body in three dimensions (checks of n°7's premises and of eqs (1)-(2)) -----------------
+_EZ = np.array([0.0, 0.0, 1.0])  # Oz upward, out of the cloth (§II n°7: « Oz se trouvant à l'extérieur »)
+
+
+def point_velocity(v: ArrayLike, w: ArrayLike, h: ArrayLike) -> np.ndarray:
+    """Velocity of the point of the vertical through C at height h above C (h = −R: the contact point), from the
+    kinematics of a rigid body, v + ω × (h e_z); v and ω are 3-vectors on the last axis. Nothing of eq. (1) or of
+    the footnote of n°7 is used: comparing checks them."""
+    v, w = np.asarray(v, dtype=float), np.asarray(w, dtype=float)
+    h = np.asarray(h, dtype=float)[..., None]
+    return v + np.cross(w, h * _EZ)
+
+
+def rigid_rhs(state: ArrayLike, *, R: float, k: float, f: float, g: float, u_reg: float = 0.0) -> np.ndarray:
+    """Newton–Euler equations of a ball of radius R and moment of inertia M R²/k about every diameter, resting on
+    the cloth (normal reaction M g) and rubbed at its contact point by Coulomb friction f M g opposite the slip.
+    ``state`` = (position, velocity of C, rotation ω), 9 numbers; the torque is (−R e_z) × F, written with the
+    cross product, not with the paper's components, so that eqs (2) are checked, not copied. ``u_reg`` > 0 makes
+    the friction f M g u/√(|u|² + u_reg²), smooth: a rolling ball then stays rolling without the switch of an event
+    (the check of « le centre C décrira la tangente »); u_reg = 0 is the sliding law itself."""
+    s = np.asarray(state, dtype=float)
+    v, w = s[3:6], s[6:9]
+    u = point_velocity(v, w, -R)
+    u[2] = 0.0  # the contact point does not move vertically: v_z = 0 on the cloth
+    scale = float(np.sqrt(u[0] ** 2 + u[1] ** 2 + u_reg**2))
+    F = -f * g * u / scale if scale > 0 else np.zeros(3)  # per unit mass
+    torque = np.cross(-R * _EZ, F)  # per unit mass
+    return np.concatenate([v, F, torque * k / R**2])
+
+
+def rigid_jac(state: ArrayLike, *, R: float, k: float, f: float, g: float, u_reg: float) -> np.ndarray:
+    """Jacobian of ``rigid_rhs`` with u_reg > 0, for the implicit solver of the stiff rolling phase (a difference
+    quotient steps over the regularisation's width and stalls Newton's iteration)."""
+    s = np.asarray(state, dtype=float)
+    u = point_velocity(s[3:6], s[6:9], -R)[:2]
+    S = float(np.sqrt(u @ u + u_reg**2))
+    dF_du = -f * g * (np.eye(2) / S - np.outer(u, u) / S**3)
+    du_ds = np.zeros((2, 9))
+    du_ds[0, 3], du_ds[0, 7], du_ds[1, 4], du_ds[1, 6] = 1.0, -R, 1.0, R  # u = (χ − R ω_y, η + R ω_x)
+    dF = dF_du @ du_ds
+    J = np.zeros((9, 9))
+    J[0:3, 3:6] = np.eye(3)
+    J[3:5] = dF
+    J[6] = k / R * dF[1]  # torque (−R e_z) × F = (R F_y, −R F_x, 0), over R²/k
+    J[7] = -k / R * dF[0]
+    return J
+
+
+def pendulum_centre_height(R: float, k: float, amplitude: float = 1e-4) -> float:
+    """Height above C of the centre of oscillation of the ball hung from its contact point (a compound pendulum
+    pivoting about the horizontal axis through the foot): the length L of the simple pendulum with the same small
+    oscillations, L = I_foot/(M R), minus R, with I_foot = M R²/k + M R² (Huygens's parallel axes). Solved here as
+    the period of the pendulum equation integrated at a small amplitude, L = g (T/2π)², corrected to first order in
+    the amplitude (T = T₀ (1 + θ₀²/16)); the footnote of n°7 names this point h = R/k."""
+    g = 9.81
+    omega2 = g * R / (R**2 / k + R**2)
+
+    def rhs(_t: float, y: np.ndarray) -> list[float]:
+        return [y[1], -omega2 * np.sin(y[0])]
+
+    def down(_t: float, y: np.ndarray) -> float:
+        return y[0]
+
+    down.direction = -1.0
+    quarter = 0.5 * np.pi / np.sqrt(omega2)
+    sol = solve_ivp(rhs, (0.0, 8 * quarter), [amplitude, 0.0], events=down, rtol=1e-12, atol=1e-18, method="DOP853")
+    T = 4.0 * float(sol.t_events[0][0]) / (1.0 + amplitude**2 / 16.0)
+    return g * (T / (2 * np.pi)) ** 2 - R
