@@ -302,3 +302,79 @@ def _ode_impact(s0: np.ndarray, approach: np.ndarray, omega: np.ndarray, M: np.n
         omega1[idx], converged[idx] = om, info.converged
         s1[idx] = slip_at(fi * om)
     return omega1, s1, converged
+
+
+def newton_euler_rates(M: float, Mp: float, R: float, Rp: float, k: float, kp: float, y: np.ndarray, f: float,
+                       on_cloth: bool = False) -> np.ndarray:
+    """d/dξ of the state y = (v, w, v′, w′) (12 on the last axis) of §V eqs (2), (2′) / §VI eqs (2), (2′), from
+    Newton's and Euler's laws in vector form, not from the paper's component equations: the force on M per unit
+    of the normal impulse ξ = ∫X dt is −x̂ − f u/|u| (u the slip of its contact point R x̂ on that of M′ at −R′x̂,
+    tangential part), applied at R x̂ (moment of inertia M R²/k); M′ takes the opposite at −R′ x̂. On the cloth
+    (§VI) its reaction at the foot, vertical and through the centre, cancels the vertical translations only
+    (the friction on the cloth is neglected, as Coriolis does, n°13). A vanished slip gives no friction."""
+    y = np.asarray(y, dtype=float)
+    v, w, vp, wp = y[..., 0:3], y[..., 3:6], y[..., 6:9], y[..., 9:12]
+    ex = np.zeros_like(v)
+    ex[..., 0] = 1.0
+    u = v + np.cross(w, R * ex) - vp - np.cross(wp, -Rp * ex)
+    u[..., 0] = 0.0
+    un = np.sqrt((u**2).sum(-1, keepdims=True))
+    F = -ex - f * u / np.where(un > 0, un, 1.0)
+    dv, dvp = F / M, -F / Mp
+    if on_cloth:
+        dv[..., 2] = 0.0
+        dvp[..., 2] = 0.0
+    dw = k / (M * R * R) * np.cross(R * ex, F)
+    dwp = kp / (Mp * Rp * Rp) * np.cross(-Rp * ex, -F)
+    return np.concatenate([dv, dw, dvp, dwp], axis=-1)
+
+
+@dataclass(frozen=True)
+class RigidImpact:
+    """One scene integrated in the normal impulse: ``state(ξ)`` is (v, w, v′, w′) as 12 numbers, ``rates(ξ)``
+    their derivatives; ``xi_stop`` is the impulse at which the slip stops (inf if it does not within the range)."""
+
+    state: Any
+    rates: Any
+    xi_stop: float
+
+
+def rigid_body_impulse(M: float, Mp: float, R: float, Rp: float, k: float, kp: float, v: ArrayLike, w: ArrayLike,
+                       vp: ArrayLike, wp: ArrayLike, f: float, xi_max: float, on_cloth: bool = False,
+                       rtol: float = 1e-11) -> RigidImpact:
+    """One impact of §V (free) or §VI (``on_cloth``) integrated over the normal impulse ξ ∈ [0, ξ_max] from
+    ``newton_euler_rates`` (DOP853, dense output), independent of every closed form and of law (6): a reference
+    for the paper's derivation steps, eqs (1)–(10) of n°12–13. After the slip stops only the normal impulse
+    acts (it moves no contact point tangentially), so the state is continued in closed form there."""
+    from scipy.integrate import solve_ivp
+
+    y0 = np.concatenate([np.asarray(x, dtype=float) for x in (v, w, vp, wp)])
+    s0 = contact_slip(y0[0:3], y0[3:6], y0[6:9], y0[9:12], R, Rp)
+    scale = float(np.max(np.abs(y0[[0, 1, 2, 6, 7, 8]]))) + float(np.max(np.abs(y0[[3, 4, 5, 9, 10, 11]]))) * R
+    if f == 0 or float(np.hypot(*s0)) == 0:
+        sol_end, status, sol = 0.0, 1, None
+    else:
+        def rhs(_t: float, y: np.ndarray) -> np.ndarray:
+            return newton_euler_rates(M, Mp, R, Rp, k, kp, y, f, on_cloth)
+
+        def stops(_t: float, y: np.ndarray) -> float:
+            s = contact_slip(y[0:3], y[3:6], y[6:9], y[9:12], R, Rp)
+            return float(s @ s0)
+
+        stops.terminal = True
+        sol = check(solve_ivp(bounded(rhs), (0.0, xi_max), y0, method="DOP853", rtol=rtol,
+                              atol=1e-14 * scale, events=stops, dense_output=True))
+        sol_end, status = float(sol.t[-1]), sol.status
+    normal = newton_euler_rates(M, Mp, R, Rp, k, kp, y0, 0.0, on_cloth)  # rates under the normal impulse alone
+
+    def state(xi: float) -> np.ndarray:
+        if sol is not None and xi <= sol_end:
+            return sol.sol(xi)
+        base = y0 if sol is None else sol.sol(sol_end)
+        return base + (xi - sol_end) * normal
+
+    def rates(xi: float) -> np.ndarray:
+        sliding = sol is not None and xi < sol_end
+        return newton_euler_rates(M, Mp, R, Rp, k, kp, state(xi), f if sliding else 0.0, on_cloth)
+
+    return RigidImpact(state, rates, sol_end if status == 1 else math.inf)
