@@ -120,3 +120,155 @@ def test_slip_decay_solves_the_impact_integral_for_every_k_and_slip_ratio(k, rat
         assert done == pytest.approx(T, rel=1e-10), (k, ratio, frac)
     f1, s1 = slip_decay(np.array([F0]), np.array([S0]), np.array([a]), np.array([b]), np.array([1.001 * total]))
     assert float(f1[0]) == 0.0 and float(s1[0]) == 0.0  # beyond the budget that stops it, the slip has stopped
+
+
+# ---- issue 13: the rows of n°11, each finding asserted --------------------------------------------------------
+@pytest.fixture(scope="module")
+def n11():
+    exp = api.load("cushion-impact")
+    from reproductions.experiments import cushion as X
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        values = {k: v for k, (v, _) in X.claims(exp.params, exp.seed).items()}
+    return exp, {r.id: r for r in api.run(exp).rows}, values
+
+
+EXPECTED = {  # row → reason (None: reproduced)
+    "j": None, "stays_on_cloth": "assumption", "q_constant": None, "eq1": None, "eq2": "ocr", "eq3": None,
+    "eq4": None, "eq5": None, "eq3_in_p": None, "n_of_p": None, "eq6": None, "eq7": "erratum", "phi_sign": None,
+    "eq8": "erratum", "eq8_sign": None, "eq8_differential": "ocr", "eq9": None, "dchi": None,
+    "zeta_integral": "erratum", "nu": None, "eq10": "erratum", "eq10_sign": "erratum", "n0_zero": None,
+    "not_elementary": None, "closed_form": None, "small_quantity": "assumption", "expansion": "erratum",
+    "eq11": "repair", "approx": None, "approx_beyond": None, "integrable": None,
+}
+
+
+def test_every_row_of_n11_has_its_verdict_reason_and_place(n11):
+    exp, rows, _ = n11
+    assert list(rows) == list(EXPECTED)  # the paper's order
+    lines = [p.line for p in exp.printed]
+    assert lines == sorted(lines) and 407 <= min(lines) and max(lines) <= 496
+    for rid, reason in EXPECTED.items():
+        r = rows[rid]
+        assert r.verdict == ("reproduced" if reason is None else "differs"), rid
+        assert r.reason == reason, rid
+        assert r.source.startswith("§IV n°11"), rid
+    assert rows["j"].today == "mu_c" and rows["nu"].today == "e_c"
+
+
+def test_eq2_as_digitised_differs_and_the_likely_original_reproduces(n11):
+    _, rows, v = n11
+    assert rows["eq2"].computed > 0.1  # "M dy/dt": the vertical velocity would change at the rate jφ/v
+    assert v["eq2_original"] < 1e-12  # M dχ/dt (dx/dt) and the three others: Newton-Euler in vectors
+
+
+def test_contact_slip_and_rates_from_vectors_match_eq1_and_eq2():
+    """The independent reference itself: a hand-worked state (not the experiment's code)."""
+    v, om = np.array([1.0, 0.0, -1.0]), np.array([-30.0, 10.0, 5.0])  # (χ, η, ζ), (n, p, q)
+    u = cushion.contact_velocity(v, om, R)
+    assert u[:2] == pytest.approx([1.0 - 10.0 * R, -30.0 * R], abs=1e-15)
+    F, dw = cushion.rigid_body_rates(v, om, R, K, 0.2)
+    phi, psi = 1.0 - 10.0 * R, -30.0 * R
+    s = np.hypot(phi, psi)
+    assert F == pytest.approx([-0.2 * phi / s, -0.2 * psi / s, 1.0], abs=1e-15)
+    assert dw * R == pytest.approx([-K * 0.2 * psi / s, K * 0.2 * phi / s, 0.0], abs=1e-13)  # q: no moment
+
+
+def test_eq7_eq8_eq10_exponent_erratum_the_derived_exponent_reproduces(n11):
+    _, rows, v = n11
+    for rid in ("eq7", "eq8", "eq10"):
+        assert rows[rid].computed > 0.1, rid
+    assert v["eq8_sign"] < 1e-9  # (8) with 2/(1 + k): right, sign included
+    assert rows["closed_form"].computed < 1e-9  # (10) with 2/(1 + k) is what the ₂F₁ closed form solves
+    # (7) with 2/(1 + k) against the integration, one scene
+    kw = dict(R=R, k=K, j=0.1, eps=0.2)
+    out = cushion.cushion_impact(1.0, -1.0, 5.0, 20.0, **kw, method="ode")
+    phi0, psi0 = 1.0 - 5.0 * R, 20.0 * R
+    assert out.regime == Regime.SLIDE
+    phi1 = float(out.chi1 - out.p1 * R)
+    v7 = abs(phi1) * np.sqrt(1 + (psi0 / phi0) ** 2 * (phi0 / phi1) ** (2 / (1 + K)))
+    assert v7 == pytest.approx(float(np.hypot(phi1, out.n1 * R)), rel=1e-9)
+
+
+def test_eq8_differential_ocr_dphi_is_k_plus_one_times_dchi(n11):
+    _, rows, v = n11
+    assert rows["eq8_differential"].computed == pytest.approx(K, rel=1e-6)  # dφ = (1 + k) dχ
+    assert v["eq8_sign"] < 1e-9  # with dχ, as the text then uses, it reproduces
+
+
+def test_sign_of_the_integral_for_zeta_and_of_eq10_is_an_erratum(n11):
+    _, rows, v = n11
+    assert rows["zeta_integral"].computed > 1.0 and rows["eq10_sign"].computed > 1.0
+    assert v["zeta_integral_fixed"] < 1e-8 and v["eq10_fixed"] < 1e-8  # with ±, as (11) prints, it reproduces
+    # the printed ∓ puts the (positive) left side at minus itself: an error of twice the left side
+    assert rows["eq10_sign"].computed == pytest.approx(2 * 0.5 * (1 + K) * 1.55, rel=0.1)
+
+
+def test_phi_keeps_the_sign_of_phi0_even_for_large_friction_and_tiny_slip(n11):
+    _, rows, _ = n11
+    assert rows["phi_sign"].computed == 0.0
+
+
+def test_the_premise_eta_zero_the_vertical_push_is_first_order_in_j():
+    """Head-on, a ball rolling into the cushion (φ0 = 0): ψ = nR falls by jk(1 + ν)a (elementary path), and the
+    vertical velocity the friction gives, Δ(nR)/k, is j(1 + ν)a: of order j, not j²."""
+    j, nu = 0.2, 0.55
+    eps = float(impact.eps_from_velocity_ratio(nu))
+    out = cushion.cushion_impact(0.0, -2.0, 0.0, -2.0 / R, R=R, k=K, j=j, eps=eps, method="elementary")
+    eta1 = float(out.n1 * R + 2.0) / K
+    assert eta1 == pytest.approx(j * (1 + nu) * 2.0, rel=1e-12)
+    assert eta1 / 2.0 > j**2
+
+
+def test_resals_small_quantity_is_of_order_j_only_on_part_of_the_scenes(n11):
+    _, rows, v = n11
+    assert rows["small_quantity"].computed > 10 * 0.2  # far beyond j somewhere
+    # and inside the premise's domain the repaired (11) is far better than beyond it
+    assert v["approx_error"] < 0.1 * v["approx_error_beyond"] < 0.04
+    # n0 = 0: (φ0 − φ1)/φ1 = j(1 + k)(1 + ν)a/φ1 exactly, ≤ j only if φ1 ≥ (1 + k)(1 + ν)a
+    phi0, a, j = 6.0, 1.0, 0.2
+    eps = float(impact.eps_from_velocity_ratio(0.55))
+    out = cushion.cushion_impact(phi0, -a, 0.0, 0.0, R=R, k=K, j=j, eps=eps, method="ode")
+    phi1 = float(out.chi1 - out.p1 * R)
+    assert (phi0 - phi1) / phi1 == pytest.approx(j * (1 + K) * 1.55 * a / (phi0 - j * (1 + K) * 1.55 * a), rel=1e-9)
+
+
+def test_expansion_identity_erratum_the_corrected_one_is_exact(n11):
+    _, rows, _ = n11
+    assert rows["expansion"].computed > 1e-3
+    x = np.linspace(1e-6, 0.2, 101)  # (φ0 − φ)/φ
+    e = (1 + K) / 2
+    phi0 = 1.0
+    phi = phi0 / (1 + x)
+    assert np.max(np.abs((phi0 / phi) ** e - (1 + (phi0 - phi) / phi) ** e)) < 1e-14  # corrected
+    printed = (1 + (phi0 - phi) / phi0) ** e
+    assert np.max(np.abs((phi0 / phi) ** e - printed) / x**2) < 2 * e  # first order only
+
+
+def test_eq11_as_printed_is_not_homogeneous_and_the_repaired_form_is(n11):
+    _, rows, _ = n11
+    assert rows["eq11"].computed > 0.1
+    phi0, psi0, budget = np.array([1.5]), np.array([2.0]), np.array([0.3])
+    e = (1 + K) / 2
+    m = cushion.eq11_as_printed(phi0, psi0, K, budget, e)
+    cm = cushion.eq11_as_printed(100 * phi0, 100 * psi0, K, 100 * budget, e) / 100
+    assert abs(float(m[0] - cm[0])) > 1e-3
+    # the repaired form (method resal) in m/s and in cm/s (velocities × 100, R in cm) gives the same rebound
+    kw = dict(k=K, j=0.2, eps=0.29, method="resal")
+    a = cushion.cushion_impact(1.0, -1.0, 20.0, -30.0, R=R, **kw)
+    b = cushion.cushion_impact(100.0, -100.0, 20.0, -30.0, R=100 * R, **kw)
+    assert float(b.chi1) / 100 == pytest.approx(float(a.chi1), rel=1e-12)
+
+
+def test_chebyshev_criterion():
+    assert cushion.binomial_integral_is_elementary(0, 2, 0.5)  # ∫√(1 + x²) dx
+    assert not cushion.binomial_integral_is_elementary(0, 4, 0.5)  # elliptic
+    assert not cushion.binomial_integral_is_elementary(0, -2 / 3.5, 0.5)  # (10) for k = 5/2
+    assert cushion.binomial_integral_is_elementary(0, -1.0, 0.5)  # k = 1: elementary
+
+
+def test_n0_zero_and_integrable_and_cross_references(n11):
+    _, rows, _ = n11
+    assert rows["n0_zero"].computed < 1e-12 and rows["integrable"].computed < 1e-10
+    assert rows["nu"].computed == rows["nu"].printed  # n°11 takes n°5's ratio
+    assert 0.14 <= rows["j"].printed <= 0.20  # inside today's measured range

@@ -283,27 +283,27 @@ def claims(p: Params, seed: int) -> dict[str, tuple[float, str]]:
         f"scenes of 80 where φ1 has the sign opposite to φ0 in the integration (|φ0| 1e-4…3 m/s, |ψ0| 0.01…3 m/s, "
         f"j 0.05…1.5); {int(np.sum(wphi1 == 0))} end with the slip stopped. φ = φ0 U^(1 + k) with U ≥ 0: |φ| only "
         f"decreases, and reaches 0 only with ψ"))
-    # l. 461: eq. (8), j dζ/dχ = ∓√(…), at the integrated end states
-    true8 = 1.0 / F1[:, 0] * j  # j dζ/dχ, dζ/dπ = 1
+    # l. 461: eq. (8), j dζ = ∓√(…) dχ, at the integrated end states, compared as dχ/(j dζ) = −φ/v (bounded by 1,
+    # so that a slip nearly stopped does not magnify the integration's error)
     r2 = (psi0 / phi0) ** 2
     safe1 = np.where(slide, phi1, phi0)
 
-    def root(e: float) -> np.ndarray:
-        return np.sqrt(1 + r2 * np.abs(phi0 / safe1) ** e)
+    def inverse_root(e: float) -> np.ndarray:  # dχ/(j dζ) by (8): ∓1/√(1 + (n0R/φ0)²(φ0/φ)^e)
+        return -np.sign(phi0) / np.sqrt(1 + r2 * np.abs(phi0 / safe1) ** e)
 
     e_pr, e_der = (1 + k) / 2, 2 / (1 + k)
-    rel = lambda x, y: float(np.max((np.abs(x - y) / np.abs(y))[slide]))  # noqa: E731
-    out["eq8_as_printed"] = (rel(-np.sign(phi0) * root(e_pr), true8), (
-        "largest relative discrepancy of j dζ/dχ = ∓√(1 + (n0R/φ0)²(φ0/φ)^((1 + k)/2)) from Newton and Euler at "
-        "the integrated states of 40 scenes (the digitised μ0, dζ1, dφ read n0, dζ, dχ)"))
-    out["eq8_sign"] = (rel(-np.sign(phi0) * root(e_der), true8),
-                       "largest relative discrepancy of j dζ/dχ = ∓√(…) with the derived exponent 2/(1 + k), Newton "
-                       "and Euler at the integrated states of 40 scenes: the upper sign for φ > 0 is right")
-    true8phi = j / (F1[:, 0] - dom1[:, 1] * R)  # j dζ/dφ
-    out["eq8_differential"] = (rel(-np.sign(phi0) * root(e_der), true8phi), (
-        f"largest relative discrepancy of j dζ/dφ = ∓√(…) as digitised (derived exponent): dφ = (1 + k) dχ, so it "
-        f"is (1 + k) times too large. With dχ, as the text next uses (« d'où dχ = dφ/(1 + k), et l'équation (8) "
-        f"donne par suite »), it agrees to {out['eq8_sign'][0]:.1e}"))
+    true8 = F1[:, 0] / j  # dχ/(j dζ) from Newton and Euler, dζ/dπ = 1
+    out["eq8_as_printed"] = (float(np.max(np.abs(inverse_root(e_pr) - true8)[slide])), (
+        "largest |dχ/(j dζ) by (8) − by Newton and Euler| at the integrated states of 40 scenes, with the printed "
+        "exponent (1 + k)/2 (the digitised μ0, dζ1, dφ read n0, dζ, dχ); dχ/(j dζ) = −φ/v lies in [−1, 1]"))
+    out["eq8_sign"] = (float(np.max(np.abs(inverse_root(e_der) - true8)[slide])),
+                       "largest |dχ/(j dζ) by (8) − by Newton and Euler| with the derived exponent 2/(1 + k), at the "
+                       "integrated states of 40 scenes: the upper sign for φ > 0 is right")
+    dphi = (F1[:, 0] - dom1[:, 1] * R) / j  # dφ/(j dζ)
+    out["eq8_differential"] = (float(np.max(np.abs(dphi / true8 - 1)[slide])), (
+        f"largest |(dφ/(j dζ))/(dχ/(j dζ)) − 1| from Newton and Euler at the same states: the digitised dφ makes "
+        f"the right side of (8) (1 + k) times the left. With dχ, as the text next uses (« d'où dχ = dφ/(1 + k), et "
+        f"l'équation (8) donne par suite »), (8) agrees to {out['eq8_sign'][0]:.1e}"))
     # l. 473 (a point inside the impact) and l. 483 (the end): the sign of the integral
     half = (1 + nu) * a / 2
     mchi, mp, _ = cushion.state_after_impulse(chi0, p0, n0, half, R=R, k=k, j=j)
