@@ -189,11 +189,12 @@ def compare(golden: dict[str, Any], s: dict[str, Any]) -> list[str]:
     return diffs
 
 
-def _summaries() -> dict[str, dict[str, Any]]:
+def _summaries(only: set[str] | None = None) -> dict[str, dict[str, Any]]:
     from . import api
     from .report import summary
 
-    return {eid: summary(api.run(api.load(eid)), prov={}) for eid in api.experiment_ids()}
+    return {eid: summary(api.run(api.load(eid)), prov={}) for eid in api.experiment_ids()
+            if not only or eid in only}
 
 
 def check_all() -> dict[str, list[str]]:
@@ -213,9 +214,7 @@ def main(argv: list[str]) -> int:
         return 1 if any(diffs.values()) else 0
     GOLDEN_DIR.mkdir(parents=True, exist_ok=True)
     only = set(argv)  # `python -m reproductions.golden ball-ball`: regenerate only these experiments' goldens
-    for eid, s in _summaries().items():
-        if only and eid not in only:
-            continue
+    for eid, s in _summaries(only).items():
         path = GOLDEN_DIR / f"{eid}.json"
         path.write_text(json.dumps(golden_object(s), indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
         print(f"wrote {path}")

@@ -45,7 +45,7 @@ def _compare(p: Printed, c: Computed) -> Row:
                    "reproduced" if ok else "differs",
                    c.how if ok else (c.diagnose(0.0) if c.diagnose else "the printed formula disagrees: " + c.how))
     if p.value is None or c.value is None:
-        note = c.how if c.value is not None else "resal computes no value for this claim"
+        note = c.how or "resal computes no value for this claim"
         return Row(p.id, p.quantity, p.source, p.value, p.text, c.value, None, p.tolerance, p.tolerance_rule,
                    "not-checkable", note)
     rel = (c.value - p.value) / abs(p.value) if p.value != 0 else c.value - p.value
