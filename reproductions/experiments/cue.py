@@ -8,6 +8,7 @@ printed 0,27), and the strokes are followed on the cloth with §II to tell direc
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -144,8 +145,9 @@ def run(exp: Experiment) -> Reproduction:
     p: Params = exp.params
     epsp = epsp_from_n5(p)
     c = checks(p, exp.seed, epsp)
+    k = claims(p, exp.seed, epsp)
     how = "largest discrepancy from the impulse integration of eqs (3) over 16 random strokes"
-    computed = {key: Computed(c[key], how) for key in QUANTITIES if key in c}
+    computed = {key: Computed(c[key], how) for key in QUANTITIES[:len(QUANTITIES) - len(CLAIMS)] if key in c}
     computed["eq5_full_moment"] = Computed(c["eq5_full_moment"], how, lambda _p: (
         f"eq. (2) omits the moment F a sin i of the cue force about Cy (its line passes through (a, b, c)); with it, "
         f"tan γ = −(k/R) b sin i / (cos i − (k/R)(c cos i + a sin i)) and (5) errs by up to "
@@ -176,7 +178,12 @@ def run(exp: Experiment) -> Reproduction:
         f"the printed « cos γ ≶ f cos i » disagrees with the sign of χ1 (first of eqs 7) on "
         f"{c['criterion_as_printed']:.0%} of the grid; the first of eqs (7) gives direct motion iff "
         f"f cos γ tan i < 1, which never disagrees (row below): the printed criterion is garbled"))
-    computed["criterion_derived"] = Computed(c["criterion_derived"], "f cos γ tan i < 1 against the sign of χ1")
+    computed["criterion_derived"] = Computed(c["criterion_derived"], (
+        "cos i ≷ f cos γ sin i (f cos γ tan i ≶ 1, the first of eqs 7) against the sign of χ1 of Résal's own eqs (2) "
+        "on the grid's sliding strokes: it never disagrees. But no sliding stroke of his own equations is retrograde "
+        f"(share {k['retro_own_share']:.0%} over i up to 89.9°, c/R in ±0.99): that needs c < −R; the retrograde "
+        "branch exists only through the omitted moment F a sin i (rows below)"))
+    computed.update(_claim_rows(p, k, epsp))
     central = cue.cue_stroke(p.M, p.Mp, p.V0p, 0.0, 0.0, 0.0, R=p.R, k=p.k, f=p.f, eps=p.eps, epsp=epsp)
     ratio = float(central.chi1) / p.V0p
     mu = p.Mp / p.M
@@ -240,3 +247,393 @@ def _figure_region(p: Params, epsp: float) -> FigureSpec:
     return FigureSpec("retrograde-region", "Final motion along the cue's direction (negative: retrograde)",
                       "inclination i of the cue (degrees)", "height c/R of the contact point", tuple(layers),
                       caption=f"b/R = {p.fan_side:g}, f = {p.f:g}; stroke with the full moment, then §II")
+
+
+# ---- n°14 claim by claim (issue 13): each printed line against an independent computation ----------------------
+CLAIMS = ("eq1_slip", "eq2_as_digitised", "eq2_moment_y", "eq2_repaired", "eq3_as_digitised", "eq4_constant",
+          "eq5_repaired", "eq7_grip", "eq7_full_chi", "eq7_full_eta", "eq7_full_n", "eq7_full_p", "eq7_full_q",
+          "eq7_repaired", "eq6_definition", "eqa_lost", "eq8_as_digitised", "eq8_original", "eqb_ball", "eqc_cue",
+          "eqd_as_printed", "eq9_as_printed", "eq9p_as_printed", "eq9p_corrected", "eq10_as_digitised",
+          "eq10_original", "eq11_as_printed", "eq_normal_velocity", "eq_normal_velocity_7", "eq12_as_derived",
+          "cone_no_slip", "criterion_full", "criterion_repaired", "eps_n5_fraction", "eps_n5_decimal",
+          "mu_ratio", "tip_friction_range", "f_cloth")
+
+
+def _scenes(seed: int, n: int, p: Params, *, slides: bool, full: bool, i_max_deg: float = 80.0) -> list[tuple]:
+    """Random reachable strokes (cos φ > 0.05) where the ball slides on the cloth (or is held by it)."""
+    rng = np.random.default_rng(seed)
+    out: list[tuple] = []
+    for _ in range(200):
+        ii = math.radians(rng.uniform(0.0, i_max_deg))
+        r, th = math.sqrt(rng.uniform(0.0, 0.7**2)), rng.uniform(0.0, 2 * math.pi)
+        b, c, ff = r * math.cos(th) * p.R, r * math.sin(th) * p.R, rng.uniform(0.1, 0.6)
+        per = cue.stroke_per_impulse(ii, b, c, R=p.R, k=p.k, f=ff, M=p.M, method="exact" if full else "resal")
+        if float(per["cos_phi"]) > 0.05 and bool(per["slides"]) == slides:
+            out.append((ii, float(per["a"]), b, c, ff, per))
+            if len(out) == n:
+                break
+    return out
+
+
+def _y(p: Params, s: tuple, P: float, full: bool) -> np.ndarray:
+    ii, a, b, c, ff, _ = s
+    return reference.integrate_cue_impulse(ii, a, b, c, p.R, p.k, ff, p.M, P, moment_a_term=full)
+
+
+def _gamma_printed(p: Params, ii: float, b: float, c: float) -> float:
+    """γ of eq. (5) as printed, tan γ = kb tang i/(kc − R), in the quadrant of Résal's derivation (the slip grows
+    along (dχ − R dp, dη + R dn) of his eqs 3: cos γ has the sign of (R − kc) cos i)."""
+    return math.atan2(-p.k * b * math.sin(ii), (p.R - p.k * c) * math.cos(ii))
+
+
+def _gamma_repaired(p: Params, ii: float, a: float, b: float, c: float) -> float:
+    """eq. (5) repaired with the full moment: tan γ = kb sin i/(k(c cos i + a sin i) − R cos i), cos γ of the sign of
+    R cos i − k(c cos i + a sin i)."""
+    si, ci = math.sin(ii), math.cos(ii)
+    return math.atan2(-p.k * b * si, p.R * ci - p.k * (c * ci + a * si))
+
+
+def _eq7_printed(p: Params, ii: float, a: float, b: float, c: float, ff: float, g: float, P: float, *,
+                 n1_as_digitised: bool = False, a_term: bool = False) -> np.ndarray:
+    """Eqs (7) with μω1 = P/M: (χ1, η1, n1, p1, q1). n1 as most likely printed in 1883, −μ(b + fR sin γ) sin i ω1,
+    unless ``n1_as_digitised`` (−μ(b + fR cos γ sin i) ω1); ``a_term`` adds the moment a sin i to p1 (repair)."""
+    k, R = p.k, p.R
+    si, ci, cg, sg = math.sin(ii), math.cos(ii), math.cos(g), math.sin(g)
+    mu_w = P / p.M
+    n1 = -(b + ff * R * cg * si) if n1_as_digitised else -(b + ff * R * sg) * si
+    p1 = c * ci + (a * si if a_term else 0.0) + ff * R * cg * si
+    return np.array([mu_w * (ci - ff * cg * si), -mu_w * ff * sg * si, (k / R**2) * mu_w * n1,
+                     (k / R**2) * mu_w * p1, -(k / R**2) * mu_w * b * ci])
+
+
+def _A(p: Params, ii: float, b: float, c: float, ff: float, g: float, mu: float, *, digitised: bool) -> float:
+    """eq. (8): as digitised (k²/R, (b + fR)², (c cos i + R cos γ sin i)²) or as most likely printed in 1883
+    (k/R², (b + fR sin γ)², (c cos i + fR cos γ sin i)²)."""
+    k, R = p.k, p.R
+    si, ci, cg, sg = math.sin(ii), math.cos(ii), math.cos(g), math.sin(g)
+    head = (ci - ff * cg * si) ** 2 + ff**2 * sg**2 * si**2
+    if digitised:
+        return 1 + mu * (head + k**2 / R * ((b + ff * R) ** 2 * si**2 + (c * ci + R * cg * si) ** 2 + b**2 * ci**2))
+    return 1 + mu * (head + k / R**2 * ((b + ff * R * sg) ** 2 * si**2 + (c * ci + ff * R * cg * si) ** 2
+                                        + b**2 * ci**2))
+
+
+def _ball_vis_viva(p: Params, y: np.ndarray) -> float:
+    return p.M * (y[0] ** 2 + y[1] ** 2) + p.M * p.R**2 / p.k * float(y[2:5] @ y[2:5])
+
+
+def _kinematics(p: Params, s: tuple, y: np.ndarray, Vp: float) -> dict[str, float]:
+    """At a state y of the ball and a cue speed V′: the approach speed along the normal, the slip of the ball on the
+    cue projected on the tangential projection t of the axis, times |t| = cos ψ (ω cos ψ of eq. d), the slip on the
+    cloth |v| (ω′ of eq. d)."""
+    ii, a, b, c, _, _ = s
+    d = cue.cue_axis(ii)
+    nhat = np.array([a, b, c]) / p.R
+    wc = cue.ball_point_velocity(*y, np.array([a, b, c]))
+    foot = cue.ball_point_velocity(*y, np.array([0.0, 0.0, -p.R]))
+    t = d - (d @ nhat) * nhat
+    return {"approach": float((Vp * d - wc) @ -nhat), "w_cos_psi": float((wc - Vp * d) @ t),
+            "cloth_slip": float(math.hypot(foot[0], foot[1])), "normal_ball": float(wc @ nhat)}
+
+
+def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
+    from scipy.optimize import brentq
+
+    R, k, M, Mp, V0 = p.R, p.k, p.M, p.Mp, p.V0p
+    mu = Mp / M
+    rng = np.random.default_rng(seed + 10)
+    out: dict[str, float] = {}
+    # eq. (1): the slip of the foot (0, 0, −R) from v + ω × r, for random states
+    st = rng.normal(size=(5, 200)) * np.array([[1], [1], [1 / R], [1 / R], [1 / R]])
+    foot = cue.ball_point_velocity(*st, np.array([0.0, 0.0, -R]))
+    out["eq1_slip"] = float(np.max(np.abs(foot[:2] - np.stack([st[0] - st[3] * R, st[1] + st[2] * R]))))
+    # eqs (2), (3): the force and moments per unit F, from vectors (cue force along d, cloth reaction F sin i and
+    # friction f F sin i against the slip at the foot), against the printed lines
+    n = 400
+    ii, g, ff = rng.uniform(0, 1.5, n), rng.uniform(-math.pi, math.pi, n), rng.uniform(0.05, 0.8, n)
+    rr, th = np.sqrt(rng.uniform(0, 0.8, n)) * R, rng.uniform(0, 2 * math.pi, n)
+    b, c = rr * np.cos(th), rr * np.sin(th)
+    a = cue.contact_point(b, c, R)
+    si, ci, cg, sg = np.sin(ii), np.cos(ii), np.cos(g), np.sin(g)
+    fric = np.stack([-ff * si * cg, -ff * si * sg, 0 * si])
+    force = cue.cue_axis(ii) + np.stack([0 * si, 0 * si, si]) + fric
+    moment = cue.cue_moment(ii, a, b, c) + np.cross(np.stack([0 * si, 0 * si, -R + 0 * si]), fric, axis=0)
+    dig = np.stack([ci - ff * cg * ci, -ff * sg * si, -(b + ff * sg * R) * si / R, -b * ci / R])  # as digitised
+    true = np.stack([force[0], force[1], moment[0] / R, moment[2] / R])
+    out["eq2_as_digitised"] = float(np.max(np.abs(dig - true)))
+    out["eq2_original"] = float(np.max(np.abs(np.stack([ci - ff * cg * si, *dig[1:]]) - true)))
+    out["eq2_moment_y"] = float(np.max(np.abs((c * ci + ff * cg * R * si) - moment[1]) / R))
+    # eq. (3) = eq. (2) divided by M′dV′ = −F dt: R²/k dp = −μ(c cos i + fR cos γ sin i) dV′ with Résal's moment
+    own_my = c * ci + ff * cg * R * si
+    dig3 = np.stack([-(ci - ff * cg * si), ff * sg * si, (b + ff * sg * R) * si / R, own_my / R, b * ci / R])
+    derived3 = -np.stack([force[0], force[1], moment[0] / R, own_my / R, moment[2] / R])
+    out["eq3_as_digitised"] = float(np.max(np.abs(dig3 - derived3)))
+    out["eq3_original"] = float(np.max(np.abs(dig3 * np.array([[1], [1], [1], [-1], [1]]) - derived3)))
+    # sliding strokes, Résal's own eqs (2) and the full moment; strokes the cloth holds
+    own = _scenes(seed + 20, 12, p, slides=True, full=False)
+    full = _scenes(seed + 21, 12, p, slides=True, full=True, i_max_deg=88.0)
+    grip = _scenes(seed + 22, 8, p, slides=False, full=False)
+    P = 0.5
+    scale = P / M
+    # eq. (4): the slip keeps one direction γ through the stroke
+    worst = 0.0
+    for s, is_full in [(s, False) for s in own] + [(s, True) for s in full]:
+        gs = []
+        for frac in (0.05, 0.3, 0.6, 1.0):
+            y = _y(p, s, frac * P, is_full)
+            gs.append(math.atan2(y[1] + y[2] * R, y[0] - y[3] * R))
+        worst = max(worst, max(abs((x - gs[-1] + math.pi) % (2 * math.pi) - math.pi) for x in gs))
+    out["eq4_constant"] = worst
+    # angular momentum about the foot B: the cloth's forces act there, the cue's along d through (a, b, c)
+    breach = {False: 0.0, True: 0.0}
+    for s, is_full in [(s, False) for s in own] + [(s, True) for s in full]:
+        ii_, a_, b_, c_ = s[:4]
+        y = _y(p, s, P, is_full)
+        L = (M * np.cross([0.0, 0.0, R], [y[0], y[1], 0.0]) + M * R * R / k * y[2:5]
+             - P * np.cross([a_, b_, c_ + R], cue.cue_axis(ii_)))
+        breach[is_full] = max(breach[is_full], float(np.linalg.norm(L)) / (P * R))
+    out["eq2_repaired"], out["eq2_own_breach"] = breach[True], breach[False]
+    # eqs (5), (7) with the full moment, line by line; the repaired forms
+    lines = np.zeros(5)
+    rep5 = rep7 = 0.0
+    for s in full:
+        ii_, a_, b_, c_, f_, _ = s
+        y = _y(p, s, P, True)
+        g_int = math.atan2(y[1] + y[2] * R, y[0] - y[3] * R)
+        g_rep = _gamma_repaired(p, ii_, a_, b_, c_)
+        rep5 = max(rep5, abs((g_rep - g_int + math.pi / 2) % math.pi - math.pi / 2))
+        w = np.array([1, 1, R, R, R]) / scale
+        pr = _eq7_printed(p, ii_, a_, b_, c_, f_, _gamma_printed(p, ii_, b_, c_), P)
+        lines = np.maximum(lines, np.abs(pr - y) * w)
+        rep = _eq7_printed(p, ii_, a_, b_, c_, f_, g_rep, P, a_term=True)
+        rep7 = max(rep7, float(np.max(np.abs(rep - y) * w)))
+    for key, v in zip(("chi", "eta", "n", "p", "q"), lines, strict=True):
+        out[f"eq7_full_{key}"] = float(v)
+    out["eq5_repaired"], out["eq7_repaired"] = rep5, rep7
+    # eqs (7) where the cloth holds the ball (the friction is then below f F sin i)
+    worst = 0.0
+    for s in grip:
+        ii_, a_, b_, c_, f_, _ = s
+        y = _y(p, s, P, False)
+        pr = _eq7_printed(p, ii_, a_, b_, c_, f_, _gamma_printed(p, ii_, b_, c_), P)
+        worst = max(worst, float(np.max(np.abs(pr - y) * np.array([1, 1, R, R, R]) / scale)))
+    out["eq7_grip"] = worst
+    i_r, b_r, c_r, f_r = _random_strokes(seed + 1, 4000)
+    held = ~cue.stroke_per_impulse(i_r, b_r * R, c_r * R, R=R, k=k, f=f_r, M=M, method="resal")["slides"]
+    out["grip_share"] = float(np.mean(held))
+    out["grip_i_central"] = math.degrees(math.atan(1 / ((1 + k) * p.f)))
+    # eq. (6), (a), (8), (b), (c): Résal's own moment, sliding strokes, a cue speed lost ω1 = 0.7 V′0
+    w1 = 0.7 * V0
+    a_err = a8d = a8o = b_err = c_err = d6 = 0.0
+    for s in own:
+        ii_, a_, b_, c_, f_, _ = s
+        y = _y(p, s, Mp * w1, False)
+        Tb = _ball_vis_viva(p, y)
+        V1 = V0 - (Mp * w1) / Mp  # the first of eqs (2): M′(V′0 − V′1) = ∫F dt
+        d6 = max(d6, abs((V0 - V1) - w1) / V0)
+        A_int = 1 + Tb / (Mp * w1**2)
+        g = _gamma_printed(p, ii_, b_, c_)
+        Ao = _A(p, ii_, b_, c_, f_, g, mu, digitised=False)
+        a8o = max(a8o, abs(Ao - A_int) / A_int)
+        a8d = max(a8d, abs(_A(p, ii_, b_, c_, f_, g, mu, digitised=True) - A_int) / A_int)
+        lost = Mp * V0**2 - Mp * V1**2 - Tb
+        a_err = max(a_err, abs(Mp * w1 * (2 * V0 - Ao * w1) - lost) / (Mp * V0**2))
+        b_err = max(b_err, abs(Mp * (Ao - 1) * w1**2 - Tb) / Tb)  # ε = 1
+        c_err = max(c_err, abs(Mp * w1**2 - Mp * (V0 - V1) ** 2) / (Mp * w1**2))
+    out.update(eq6_definition=d6, eqa_lost=a_err, eq8_as_digitised=a8d, eq8_original=a8o, eqb_ball=b_err,
+               eqc_cue=c_err)
+    # the greatest compression as Résal ends it (equal normal velocities), found on the integration. (12) and the
+    # two lines before it follow from (7): Résal's own eqs (2). (9′) is an energy balance, true only where the
+    # cue's moment is that of its force (the full moment: with Résal's, its work is not F·v of the contact point):
+    # there, law (6) at the end of the stroke is solved on the integration for ω1 ((9), (10))
+    e9p = e9pc = e12 = e10 = e10d = e9 = nv = nv7 = cone = dd = 0.0
+    phi_tip = math.atan(max(p.tip_friction))
+    for j, (s, is_full) in enumerate([(s, False) for s in own] + [(s, True) for s in full]):
+        ii_, a_, b_, c_, f_, per = s
+        si_, ci_ = math.sin(ii_), math.cos(ii_)
+        g = _gamma_repaired(p, ii_, a_, b_, c_) if is_full else _gamma_printed(p, ii_, b_, c_)
+        cphi = -(a_ * ci_ - c_ * si_) / R  # eq. (11) with the sign the downward cue requires
+        om12 = V0 * cphi / (cphi + mu / R * (b_ * f_ * math.sin(g) * si_ - a_ * (ci_ - f_ * math.cos(g) * si_)))
+        if not 0 < om12 < 2 * V0:
+            continue  # the denominator of (12) is not positive there: the energy row deals with it
+
+        def approach(Pc: float, s: tuple = s, is_full: bool = is_full) -> float:
+            return _kinematics(p, s, _y(p, s, Pc, is_full), V0 - Pc / Mp)["approach"]
+
+        Pc = brentq(approach, 0.0, 2.5 * Mp * om12, xtol=1e-14 * Mp * V0, rtol=1e-13)
+        om = Pc / Mp
+        yc = _y(p, s, Pc, is_full)
+        kin = _kinematics(p, s, yc, V0 - om)
+        if not is_full:
+            e12 = max(e12, abs(om12 - om) / om)
+            nv = max(nv, abs(kin["normal_ball"] - (yc[0] * a_ + yc[1] * b_) / R) / V0)
+            nv7 = max(nv7, abs(kin["normal_ball"] - mu * ((ci_ - f_ * math.cos(g) * si_) * a_
+                                                          - f_ * b_ * math.sin(g) * si_) * om / R) / V0)
+            if math.acos(min(1.0, cphi)) <= phi_tip:
+                cone = max(cone, abs(kin["w_cos_psi"]) / math.sqrt(max(1 - cphi**2, 1e-300)) / V0)
+            continue
+        A = 1 + Mp * _ball_vis_viva(p, yc) / Pc**2  # the ball's vis viva per M′ω², as (8) defines A
+        lhs = 2 * V0 - 2 * A * om
+        fr_cue, fr_cloth = 2 * kin["w_cos_psi"], 2 * kin["cloth_slip"] * f_ * si_
+        e9p = max(e9p, abs(lhs - (fr_cue - fr_cloth)) / V0)  # as printed: 2ω cos ψ − 2ω′ f sin i
+        e9pc = max(e9pc, abs(lhs - (-fr_cue + fr_cloth)) / V0)  # the signs of the law (d corrected)
+        dd = max(dd, abs(-2 * Mp * f_ * si_ - 2 * Mp * f_ * si_) / abs(2 * Mp * f_ * si_))
+        eps_b, eps_c = (p.eps, epsp) if j == len(own) else tuple(np.random.default_rng(seed + 30 + j).uniform(0, 1, 2))
+        work = -fr_cue + fr_cloth  # per unit impulse, with the slips at the greatest compression
+
+        def law6(P1: float, s: tuple = s, work: float = work, eps_b: float = eps_b, eps_c: float = eps_c) -> float:
+            y1 = _y(p, s, P1, True)
+            Tb = _ball_vis_viva(p, y1)
+            return (Mp * V0**2 - Mp * (V0 - P1 / Mp) ** 2 - Tb) - eps_b * Tb - eps_c * P1**2 / Mp - work * P1
+
+        P1 = brentq(law6, 1e-9 * Mp * om, 2.5 * Mp * om, xtol=1e-14 * Mp * V0, rtol=1e-13)
+        w1_law = P1 / Mp
+        w1_10 = 2 * A * om / (A + (A - 1) * eps_b + eps_c)
+        e10 = max(e10, abs(w1_10 - w1_law) / w1_law)
+        e10d = max(e10d, abs(om - w1_law) / w1_law)
+        e9 = max(e9, abs(2 * V0 - (A + eps_b * (A - 1) + eps_c) * w1_law - (fr_cue - fr_cloth)) / V0)
+    out.update(eq9p_as_printed=e9p, eq9p_corrected=e9pc, eq12_as_derived=e12, eq10_original=e10,
+               eq10_as_digitised=e10d, eq9_as_printed=e9, eq_normal_velocity=nv, eq_normal_velocity_7=nv7,
+               cone_no_slip=cone, eqd_as_printed=dd)
+    # eq. (11): cos φ = −d·n̂ against the printed −(a cos i + c sin i)/R
+    d_ = cue.cue_axis(ii)
+    out["eq11_as_printed"] = float(np.max(np.abs(-(a * ci + c * si) / R - (-(d_ * np.stack([a, b, c])).sum(0) / R))))
+    out["eq11_corrected"] = float(np.max(np.abs(-(a * ci - c * si) / R - (-(d_ * np.stack([a, b, c])).sum(0) / R))))
+    # the criterion with the full moment: the likely original cos i ≷ f cos γ sin i with γ of (5) as printed, and
+    # with the repaired γ, against the sign of χ1 (sliding strokes up to i = 89°)
+    ig, cg_ = np.meshgrid(np.radians(np.linspace(1, 89, 60)), np.linspace(-0.9, 0.9, 41), indexing="ij")
+    for bR in (0.3,):
+        per = cue.stroke_per_impulse(ig, bR * R, cg_ * R, R=R, k=k, f=p.f, M=M, method="exact")
+        sl = per["slides"] & (per["cos_phi"] > 0)
+        direct = per["v"][0] > 0
+        g_pr = np.arctan2(-k * bR * R * np.sin(ig), (R - k * cg_ * R) * np.cos(ig))
+        a_g = per["a"]
+        g_rp = np.arctan2(-k * bR * R * np.sin(ig), R * np.cos(ig) - k * (cg_ * R * np.cos(ig) + a_g * np.sin(ig)))
+        crit_pr = p.f * np.cos(g_pr) * np.tan(ig) < 1
+        crit_rp = p.f * np.cos(g_rp) * np.tan(ig) < 1
+        out["criterion_full"] = float(np.mean(crit_pr[sl] != direct[sl]))
+        out["criterion_repaired"] = float(np.mean(crit_rp[sl] != direct[sl]))
+        out["retro_full_share"] = float(np.mean(~direct[sl]))
+    own_per = cue.stroke_per_impulse(np.radians(np.linspace(0, 89.9, 400))[:, None], 0.0,
+                                     np.linspace(-0.99, 0.99, 199)[None, :] * R, R=R, k=k, f=p.f, M=M,
+                                     method="resal")
+    out["retro_own_share"] = float(np.mean(own_per["v"][0][own_per["slides"]] < 0))
+    # the footnote of n°14: n°5's equation 1 + ε + 3(1 + ε′) = 24/5 with ε = 0 gives ε′ (its own labels)
+    D = float(impact.denominator_from_struck_ratio(p.mass_ratio_n5, p.ratio_struck_n5))  # M′(1+ε)+M(1+ε′) over M′
+    out["eps_n5_fraction"] = out["eps_n5_decimal"] = (D - 1.0) / p.mass_ratio_n5 - 1.0
+    return out
+
+
+QUANTITIES = QUANTITIES + CLAIMS
+
+
+def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Computed]:
+    """The Computed values of the claim-by-claim rows (``claims``), with what explains each disagreement."""
+    integ = "largest discrepancy from the impulse integration of eqs (3) (rtol 1e-10)"
+    mu_tip = max(p.tip_friction)
+
+    def why(text: str) -> Callable[[float], str]:
+        return lambda _pr: text
+
+    return {
+        "cone_no_slip": Computed(k["cone_no_slip"], "largest slip of the ball on the tip at the greatest compression, "
+                                 f"over V′0, strokes inside the cone (tip friction {mu_tip:g})", why(
+            f"inside the cone the ball still slips on the tip, up to {k['cone_no_slip']:.2f} V′0 at the greatest "
+            "compression (the slip ω that (d) and (9) keep): with Coulomb friction a sliding tip pushes on the edge of "
+            "its cone, and a tip that does not slide pushes off the axis. The premise that the force stays on the "
+            "axis inside the cone is not supported")),
+        "mu_ratio": Computed(None, "a property of the cues and balls of 1883 (today's 18 oz cue, 6 oz ball: 3)"),
+        "tip_friction_range": Computed(None, "a measurement of the chalked tip, which no premise of the paper gives"),
+        "f_cloth": Computed(None, "Coriolis's measured value (n°7), which no premise of the paper gives"),
+        "eq1_slip": Computed(k["eq1_slip"], "v + ω × r at the foot r = (0, 0, −R), over 200 random states (m/s)"),
+        "eq2_as_digitised": Computed(k["eq2_as_digitised"], "largest discrepancy per unit F from Newton–Euler", why(
+            "the digitised second line reads « M dη/dt = F(cos i − f v_x/v cos i) » and the fourth « dv/dt »; the 1883 "
+            "text most likely had M dχ/dt = F(cos i − f (v_x/v) sin i) and M R²/k dn/dt (as eqs 3 use): with these "
+            f"the lines agree with Newton–Euler to {k['eq2_original']:.0e}")),
+        "eq2_moment_y": Computed(k["eq2_moment_y"], "moment about Cy per unit F R against r × d", why(
+            "the moment of F about Cy is F(c cos i + a sin i + f (v_x/v) R sin i): the printed line omits F a sin i "
+            f"(up to {k['eq2_moment_y']:.2f} F R); method 'exact' restores it (repair; next row)")),
+        "eq2_repaired": Computed(k["eq2_repaired"], (
+            "largest breach of the angular momentum about the foot B (ball + moment of the cue impulse along its axis "
+            f"through (a, b, c)) over P R, eqs (2) with the full moment; Résal's own (2) breach it by up to "
+            f"{k['eq2_own_breach']:.2f}")),
+        "eq3_as_digitised": Computed(k["eq3_as_digitised"], "eqs (2) divided by M′dV′ = −F dt, line by line", why(
+            "the fourth line has « + μ(c cos i + f v_x/v R sin i) dV′ »: with M′dV′ = −F dt it is −μ(…) dV′, the sign "
+            "that (5) and (7) use (with the plus sign the friction terms of (5) do not cancel); likely an OCR slip. "
+            f"With −μ the lines agree to {k['eq3_original']:.0e}")),
+        "eq4_constant": Computed(k["eq4_constant"], (
+            "largest change of the slip direction atan2(η + nR, χ − pR) over the stroke (P/P1 = 0.05 … 1), sliding "
+            "strokes, Résal's eqs (2) and the full moment (radians)")),
+        "eq5_repaired": Computed(k["eq5_repaired"], (
+            "tan γ = kb sin i/(k(c cos i + a sin i) − R cos i) against the full-moment integration (modulo π; cos γ "
+            "has the sign of R cos i − k(c cos i + a sin i))")),
+        "eq6_definition": Computed(k["eq6_definition"], "M′(V′0 − V′1) = ∫F dt by the first of eqs (2)"),
+        **{f"eq7_full_{n}": Computed(k[f"eq7_full_{n}"], integ + " with the full moment, relative to μω1", why(
+            f"with the moment F a sin i, the line {line} of (7) with γ of the printed (5) errs by up to "
+            f"{k[f'eq7_full_{n}']:.2f} μω1 ({what}); method 'exact' uses the repaired γ and p1 (row eq7_repaired)"))
+           for n, line, what in (("chi", "χ1", "through γ"), ("eta", "η1", "through γ"),
+                                  ("n", "n1 (as most likely printed)", "through γ"),
+                                  ("p", "p1", "its term μ a sin i ω1 is missing, and γ"),
+                                  ("q", "q1", "the moment −b cos i about Cz is whole"))},
+        "eq7_repaired": Computed(k["eq7_repaired"], integ + " with the full moment: γ of the repaired (5), "
+                                 "R²p1/k = μ(c cos i + a sin i + fR cos γ sin i) ω1"),
+        "eq7_grip": Computed(k["eq7_grip"], integ + ", strokes where the cloth holds the ball", why(
+            f"(5) and (7) take the cloth's friction as f F sin i against a slip; where |D| ≤ (1 + k) f sin i the "
+            f"cloth holds the foot (no slip, less friction) and (7) errs by up to {k['eq7_grip']:.2f} μω1. That is "
+            f"{k['grip_share']:.0%} of random strokes (i ≤ 80°, f 0.1-0.6), and every central stroke steeper than "
+            f"i = {k['grip_i_central']:.1f}° at f = {p.f:g}: the paper does not consider this regime")),
+        "eqa_lost": Computed(k["eqa_lost"], "M′ω1(2V′0 − Aω1), A of (8) as most likely printed, against the vis viva "
+                             "lost in the integration, over M′V′0²"),
+        "eq8_as_digitised": Computed(k["eq8_as_digitised"], "relative discrepancy from 1 + (ball's vis viva)/(M′ω1²)",
+                                     why("the digitised (8) has k²/R for k/R² (not homogeneous), (b + fR)² for "
+                                         "(b + fR sin γ)² and (c cos i + R cos γ sin i)² for (c cos i + fR cos γ sin "
+                                         "i)²; the likely original reproduces (next row)")),
+        "eq8_original": Computed(k["eq8_original"], (
+            "(8) as most likely printed, A = 1 + μ{(cos i − f cos γ sin i)² + f² sin²γ sin²i + (k/R²)[(b + fR sin γ)² "
+            "sin²i + (c cos i + fR cos γ sin i)² + b² cos²i]}, against 1 + (ball's vis viva)/(M′ω1²) of the "
+            "integration of Résal's eqs (2); with the full moment c cos i becomes c cos i + a sin i")),
+        "eqb_ball": Computed(k["eqb_ball"], "M′(A − 1)ω1² against the ball's vis viva (lost velocities, from rest)"),
+        "eqc_cue": Computed(k["eqc_cue"], "M′ω1² against M′(V′0 − V′1)²"),
+        "eqd_as_printed": Computed(k["eqd_as_printed"], "relative discrepancy of each printed right-hand side from its "
+                                   "left-hand side with ∫F dt = M′ω1 (first of eqs 2)", why(
+            "∫F dt = M′ω1 > 0, so −2ω∫F cos ψ dt = −2M′ω cos ψ ω1 and 2ω′∫f F sin i dt = +2M′ω′ f sin i ω1; both "
+            "printed right-hand sides have the opposite sign (and the first lacks ω): a sign slip of the original, "
+            "carried into (9) and (9′); it cancels in (10)")),
+        "eq9_as_printed": Computed(k["eq9_as_printed"], "residual of (9) over V′0, with ω1 from law (6) solved on the "
+                                   "integration, ω and ω′ the slips at the greatest compression (full moment)", why(
+            "(9) follows from (a)-(d) with (d)'s sign slip: with the law's signs it reads 2V′0 − [A + ε(A − 1) + ε′]ω1 "
+            "= −2ω cos ψ + 2ω′ f sin i, which law (6) solved on the integration satisfies (row eq10_original)")),
+        "eq9p_as_printed": Computed(k["eq9p_as_printed"], "residual of (9′) over V′0 at the greatest compression",
+                                    why("with the signs of the law, 2V′0 − 2Aω = −2ω cos ψ + 2ω′ f sin i (next row); "
+                                        "the printed signs come from (d)")),
+        "eq9p_corrected": Computed(k["eq9p_corrected"], (
+            "2V′0 − 2Aω = −2ω cos ψ + 2ω′ f sin i at the greatest compression found on the full-moment integration "
+            "(equal normal velocities), A from its vis viva: an exact energy balance there. With Résal's own moment it "
+            "fails (the work of his moment is not that of F at (a, b, c))")),
+        "eq10_as_digitised": Computed(k["eq10_as_digitised"], "ω against ω1 of law (6) solved on the integration", why(
+            "the digitised (10) reads « ω = 2Aω/(…) »: the left side is ω1 (the subscript lost); with ω1 it "
+            "reproduces (next row)")),
+        "eq10_original": Computed(k["eq10_original"], (
+            "ω1 = 2Aω/(A + (A − 1)ε + ε′) against law (6) at the end of the stroke (friction terms at the greatest "
+            "compression) solved for ω1 on the full-moment integration, random ε, ε′ and the footnote's")),
+        "eq11_as_printed": Computed(k["eq11_as_printed"], "largest difference from cos φ = −d·n̂", why(
+            "with the cue pointing down (pressure F sin i on the cloth), d = (cos i, 0, −sin i) and cos φ = −(a cos i "
+            f"− c sin i)/R (which agrees to {k['eq11_corrected']:.0e}); the printed + c sin i is a sign slip")),
+        "eq_normal_velocity": Computed(k["eq_normal_velocity"], "(v + ω × r)·n̂ of the integration against "
+                                       "(χa + ηb)/R at the greatest compression, over V′0"),
+        "eq_normal_velocity_7": Computed(k["eq_normal_velocity_7"], "the ball's normal velocity at the contact from "
+                                         "the integration against μ[(cos i − f cos γ sin i)a − fb sin γ sin i]ω/R"),
+        "eq12_as_derived": Computed(k["eq12_as_derived"], (
+            "(12), with cos φ of the corrected (11), against the instant of equal normal velocities found on the "
+            "integration of Résal's eqs (2) (relative)")),
+        "criterion_full": Computed(k["criterion_full"], "share of the grid's sliding strokes (full moment) where "
+                                   "cos i ≷ f cos γ sin i with γ of the printed (5) misjudges the sign of χ1", why(
+            f"with the moment F a sin i, {k['retro_full_share']:.0%} of the grid's sliding strokes are retrograde "
+            f"(steep cues), and γ of the printed (5) misjudges {k['criterion_full']:.0%}; with the repaired γ the "
+            "criterion is exact (next row)")),
+        "criterion_repaired": Computed(k["criterion_repaired"], "the same with γ of the repaired (5)"),
+        "eps_n5_fraction": Computed(k["eps_n5_fraction"], "n°5: 1 + ε + 3(1 + ε′) = 24/5 with ε = 0", why(
+            f"n°5 gives ε′ = 4/15 = {k['eps_n5_fraction']:.4f}; « 1/14 » is an OCR slip of « 4/15 » (0,27 follows "
+            "from 4/15, not from 1/14 = 0,071)")),
+        "eps_n5_decimal": Computed(k["eps_n5_decimal"], "4/15 from n°5's equation with ε = 0"),
+    }

@@ -38,7 +38,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-__all__ = ["CueStroke", "contact_point", "cue_stroke", "miscue_angle", "stroke_per_impulse"]
+__all__ = ["CueStroke", "ball_point_velocity", "contact_point", "cue_axis", "cue_moment", "cue_stroke", "miscue_angle",
+           "stroke_per_impulse"]
 
 from .paths import PathCode, Regime, codes
 
@@ -128,3 +129,27 @@ def cue_stroke(M: ArrayLike, Mp: ArrayLike, V0p: ArrayLike, i: ArrayLike, b: Arr
     return CueStroke(chi1=P * v[0], eta1=P * v[1], n1=P * w[0], p1=P * w[1], q1=P * w[2], V1p=V0p - omega1,
                      omega1=omega1, omega=omega, A=A, gamma=per["gamma"], cos_phi=per["cos_phi"], method=method,
                      path=codes(omega1.shape, PathCode[method.upper()]), regime=regime, label=label)
+
+
+def cue_axis(i: ArrayLike) -> np.ndarray:
+    """The unit vector d = (cos i, 0, −sin i) along which the cue moves and pushes (§VII n°14: the pressure on the
+    cloth is F sin i, so the cue points down); leading axis: the components."""
+    i = np.asarray(i, dtype=float)
+    return np.stack([np.cos(i), np.zeros_like(i), -np.sin(i)])
+
+
+def cue_moment(i: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike) -> np.ndarray:
+    """Moment about the centre C of a unit force along the cue axis through the contact point (a, b, c):
+    r × d = (−b sin i, c cos i + a sin i, −b cos i) (the full moment of eq. 2, with the term a sin i)."""
+    i, a, b, c = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (i, a, b, c)))
+    return np.cross(np.stack([a, b, c]), cue_axis(i), axis=0)
+
+
+def ball_point_velocity(chi: ArrayLike, eta: ArrayLike, n: ArrayLike, p: ArrayLike, q: ArrayLike,
+                        r: ArrayLike) -> np.ndarray:
+    """Velocity of the ball's material point at r (from the centre) for a centre velocity (χ, η, 0) and a rotation
+    (n, p, q): v + ω × r. The foot of the ball, r = (0, 0, −R), gives the slip of eq. (1)."""
+    chi, eta, n, p, q = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (chi, eta, n, p, q)))
+    r = np.asarray(r, dtype=float)
+    v = np.stack([chi, eta, np.zeros_like(chi)])
+    return v + np.cross(np.stack([n, p, q]), r, axis=0)
