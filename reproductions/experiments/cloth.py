@@ -279,7 +279,8 @@ def run(exp: Experiment) -> Reproduction:
     computed["eq5_as_printed"] = Computed(c["eq5_as_printed"], how, lambda _p: (
         "as printed, y = a tang α x − (fg/2)(1 + tang² α) x² is not homogeneous in units; eliminating t between "
         "eqs (4), t = x/(a cos α), gives y = x tang α − fg(1 + tang² α) x²/(2a²), which the integration follows "
-        "(row 'eq5_corrected'): a slip of the derivation (a kept in the first term, 1/a² lost in the second), "
+        "(row 'eq5_corrected'; the two agree only where a = 1 in the unit of speed): a slip of the derivation (a "
+        "kept in the first term, 1/a² lost in the second), "
         "most likely the 1883 original's, since the digitised text reads cleanly there"))
     computed["y_roll_as_printed"] = Computed(c["y_roll_as_printed"], how, lambda _p: (
         "eqs (4) at t1 = v0/(fg(1 + k)) give y1 = (a sin α − v0/(2(1 + k))) v0/(fg(1 + k)) (row "
