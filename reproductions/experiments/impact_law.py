@@ -80,23 +80,23 @@ def _molecular(p: Params, rng: np.random.Generator) -> dict[str, float]:
         phi0, phi1, U = s.v0 - s.u, s.v1 - s.u, s.v0 - s.v1
         sq = lambda a: np.sum(a * a, axis=1)  # noqa: E731
         un = np.linalg.norm(s.u, axis=1)
-        cosUu = np.sum(U * s.u, axis=1) / (np.linalg.norm(U, axis=1) * un)
-        per = s.m * (sq(s.v0) - sq(s.v1)) - (s.m * (sq(phi0) - sq(phi1)) + 2 * s.m * np.linalg.norm(U, axis=1)
-                                               * cosUu * un)
+        U_cos = np.sum(U * s.u, axis=1) / un  # U cos(U, u), also where a molecule loses nothing (U = 0)
+        per = s.m * (sq(s.v0) - sq(s.v1)) - (s.m * (sq(phi0) - sq(phi1)) + 2 * s.m * U_cos * un)
         out["eq1_molecule"] = max(out["eq1_molecule"], float(np.max(np.abs(per) / (s.m * v2))))
         lhs = impact.vis_viva(s.m, s.v0) - impact.vis_viva(s.m, s.v1)
         work = float(np.sum(s.m * np.sum(U * s.u, axis=1)))  # Σ m U cos(U, u) u
         out["eq1"] = max(out["eq1"], _rel(lhs - (float(np.sum(s.m * (sq(phi0) - sq(phi1)))) + 2 * work), scale))
         out["eq2"] = max(out["eq2"], _rel(lhs - (float(np.sum(s.m * (sq(phi0) - sq(phi1)))) - 2 * s.J_omega), scale))
         # the digitised line: Σ m U cos(U, u) = −Jω, without the factor u (compared with the same scale)
-        no_u = float(np.sum(s.m * np.linalg.norm(U, axis=1) * cosUu))
+        no_u = float(np.sum(s.m * U_cos))
         worst_digitised = max(worst_digitised, abs(no_u + s.J_omega) / (abs(work) + abs(s.J_omega)))
         # eq. (3)'s step: φ1 = −nφ0 molecule by molecule, n varying from one molecule to another
         n_i = rng.uniform(0.0, 1.0, s.m.size)
         f1 = -n_i[:, None] * phi0
         Ui = phi0 - f1
         eps_i = (1 - n_i) / (1 + n_i)
-        out["eq3_step"] = max(out["eq3_step"], float(np.max(np.abs(sq(phi0) - sq(f1) - eps_i * sq(Ui)) / sq(Ui))))
+        resid = np.abs(sq(phi0) - sq(f1) - eps_i * sq(Ui))
+        out["eq3_step"] = max(out["eq3_step"], float(np.max(resid) / np.max(sq(Ui))))
         nU = np.linalg.norm(Ui, axis=1)
         mags = np.r_[nU - np.linalg.norm(phi0, axis=1) * (1 + n_i), np.linalg.norm(phi0, axis=1) - nU / (1 + n_i),
                      np.linalg.norm(f1, axis=1) - n_i * nU / (1 + n_i)]
@@ -112,8 +112,9 @@ def _molecular(p: Params, rng: np.random.Generator) -> dict[str, float]:
         mU2 = s.m * sq(U)
         out["eq3"] = max(out["eq3"], _rel(lhs - (float(np.sum(eps * mU2)) - 2 * s.J_omega), scale))
         phi0, phi1 = s.v0 - s.u, s.v1 - s.u
-        eps_mol = (1 - np.linalg.norm(phi1, axis=1) / np.linalg.norm(phi0, axis=1)) / (
-            1 + np.linalg.norm(phi1, axis=1) / np.linalg.norm(phi0, axis=1))  # each molecule's own ε
+        n0 = np.linalg.norm(phi0, axis=1)
+        ratio = np.linalg.norm(phi1, axis=1) / np.where(n0 > 0, n0, 1.0)
+        eps_mol = np.where(n0 > 0, (1 - ratio) / (1 + ratio), 0.0)  # each molecule's own ε (none where U = 0)
         S, Sp = s.body == 0, s.body == 1
         out["eq5"] = max(out["eq5"], _rel(lhs - (float(np.sum((eps_mol * mU2)[S]) + np.sum((eps_mol * mU2)[Sp]))
                                                  - 2 * s.J_omega), scale))
@@ -128,6 +129,8 @@ def _molecular(p: Params, rng: np.random.Generator) -> dict[str, float]:
         out["several_bodies"] = max(out["several_bodies"],
                                     _rel(lhs - (float(np.sum(s.m * (sq(phi0) - sq(phi1)))) - 2 * s.J_omega), scale))
     out["eq2_as_digitised"] = worst_digitised
+    if not all(np.isfinite(v) for v in out.values()):
+        raise ArithmeticError(f"a check of eqs (1)-(6) is not finite: {out}")
     return out
 
 

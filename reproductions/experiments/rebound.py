@@ -29,7 +29,7 @@ from .base import (
     rows_for,
 )
 
-QUANTITIES = ("eq9_limit", "eps", "velocity_ratio", "eps_no_rebound", "eps_series")
+QUANTITIES = ("eq9_limit", "eps", "velocity_ratio", "eps_no_rebound", "eps_series", "measured_datum", "free_fall")
 MODERN = ("e_c", "e_c(v)", "e_t")
 MAX_TRIALS = 10_000  # a synthetic series: far more trials than any measured one, still fitted in a blink
 G = 9.80665  # only to turn drop heights into speeds; every ratio here is independent of g
@@ -131,6 +131,16 @@ def eq9_limit_check(seed: int, n: int = 64, mass_ratio: float = 1e12) -> float:
     return float(np.max(np.abs(printed - limit) / V0))
 
 
+def free_fall_check(seed: int, n: int = 16) -> float:
+    """Largest |√(h1/h0) − (−V1/V0)| between the rebound height ratio of a drop integrated in time (fall from h0,
+    rebound at −r V0, rise to the apex) and the velocity ratio r, over random r and h0 (§I n°5, marble): the
+    step from 'aux 2/3 de la hauteur' to (1 − ε)/(1 + ε) = √(2/3)."""
+    rng = np.random.default_rng(seed + 3)
+    r = rng.uniform(0.05, 1.0, n)
+    h0 = rng.uniform(0.05, 2.0, n)
+    return float(np.max(np.abs(np.sqrt(impact.drop_rebound_height_ratio(h0, r, G)) - r)))
+
+
 def run(exp: Experiment) -> Reproduction:
     p: Params = exp.params
     r = _speed_ratio(p, p.value)
@@ -163,6 +173,9 @@ def run(exp: Experiment) -> Reproduction:
                                    "eq. (9) with no rebound: ε = 1, Carnot's inelastic impact (eq. 4); the paper "
                                    "explains it by vibration, which ε absorbs (end of n°3)"),
         "eps_series": Computed(None if fit is None else fit.point[0], "least-squares fit of the series"),
+        "measured_datum": Computed(None, "a measurement, the datum of this experiment"),
+        "free_fall": Computed(free_fall_check(exp.seed), "largest |√(h1/h0) − r| over 16 drops integrated in time "
+                                                         "(rebound at r times the impact speed)"),
     }
     fits: list[FitRow] = []
     if p.half_unit is not None:

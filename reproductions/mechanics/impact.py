@@ -285,9 +285,9 @@ def eq1_per_molecule(v0: ArrayLike, v1: ArrayLike, u: ArrayLike) -> tuple[np.nda
     uI0 = np.sum(v0 * e, axis=-1) - un  # signed segment u → I0 along Ou
     uI1 = np.sum(v1 * e, axis=-1) - un
     sq = lambda a: np.sum(a * a, axis=-1)  # noqa: E731
-    cosUu = np.sum(U * e, axis=-1) / np.linalg.norm(U, axis=-1)
+    U_cos = np.sum(U * e, axis=-1)  # U cos(U, u), also where U = 0
     return (sq(v0) - (un**2 + sq(phi0) + 2 * un * uI0), sq(v1) - (un**2 + sq(phi1) + 2 * un * uI1),
-            (uI0 - uI1) - np.linalg.norm(U, axis=-1) * cosUu)
+            (uI0 - uI1) - U_cos)
 
 
 def sphere_plane_law(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, *, R: ArrayLike, k: ArrayLike,
@@ -391,3 +391,43 @@ def chain_at_greatest_compression(tau: float, *, molecules: int = 12, mass_ratio
         mean = np.average(v[b], weights=m[b])
         spread = max(spread, float(np.max(np.abs(v[b] - mean))))
     return {"normal_difference": abs(rate(t_star)), "rigid_departure": spread, "t_star": t_star / t_contact}
+
+
+def rigid_impulse_response(M: float, inertia: ArrayLike, lever: ArrayLike, P: ArrayLike) -> tuple[np.ndarray,
+                                                                                                   np.ndarray]:
+    """Changes (ΔV, ΔΩ) of a rigid body of mass M and inertia tensor ``inertia`` (about its centre of gravity)
+    struck by the impulse P at the point ``lever`` from its centre: ΔV = P/M, ΔΩ = I⁻¹ (lever × P) (§I n°5:
+    a direct impact, the normal through the centres, leaves the bodies translating)."""
+    P = np.asarray(P, dtype=float)
+    return P / M, np.linalg.solve(np.asarray(inertia, dtype=float), np.cross(np.asarray(lever, dtype=float), P))
+
+
+def drop_rebound_height_ratio(h0: ArrayLike, r: ArrayLike, g: float, *, rtol: float = 1e-12) -> np.ndarray:
+    """h1/h0 of a ball dropped from h0 that leaves the slab at r times its impact speed (eq. (9)'s −V1/V0),
+    by integrating the fall and the rise in time (§I n°5, the marble drop): the reference for h1/h0 = r²."""
+    from scipy.integrate import solve_ivp
+
+    from .budget import bounded, check
+
+    out = []
+    for hh, rr in zip(*(np.ravel(a) for a in np.broadcast_arrays(np.asarray(h0, float), np.asarray(r, float))),
+                      strict=True):
+        def rhs(_t: float, y: np.ndarray) -> list[float]:
+            return [y[1], -g]
+
+        def ground(_t: float, y: np.ndarray) -> float:
+            return y[0]
+
+        def apex(_t: float, y: np.ndarray) -> float:
+            return y[1]
+
+        ground.terminal, ground.direction = True, -1
+        apex.terminal, apex.direction = True, -1
+        t_fall = np.sqrt(2 * hh / g)
+        fall = check(solve_ivp(bounded(rhs), (0.0, 4 * t_fall), [hh, 0.0], events=ground, rtol=rtol,
+                               atol=1e-14 * hh, method="DOP853"))
+        v_impact = fall.y_events[0][0][1]
+        rise = check(solve_ivp(bounded(rhs), (0.0, 4 * t_fall), [0.0, -rr * v_impact], events=apex, rtol=rtol,
+                               atol=1e-14 * hh, method="DOP853"))
+        out.append(rise.y_events[0][0][0] / hh)
+    return np.array(out).reshape(np.broadcast_shapes(np.shape(h0), np.shape(r)))
