@@ -627,20 +627,23 @@ def _chars(size: float = _PT) -> int:
 
 def _line(fig: Any, x: float, y: float, text: str, size: float = _PT, weight: str = "normal",
           color: str = "black") -> None:
-    """One line of monospace text at (x, y) (figure fraction, baseline), run by run on the character grid."""
+    """One line of monospace text at (x, y) (figure fraction, baseline) on the character grid: what Courier has
+    as one string in it (blanks where the others go), each run of the others in DejaVu Sans Mono at its place."""
     from matplotlib.text import Text
 
     step = _ADVANCE * size / 72 / _PAGE[0]
+    props = {"fontsize": size, "parse_math": False, "color": color, "transform": fig.transFigure}
+    core = "".join(c if _courier_has(c) else " " for c in text).rstrip()
+    if core.strip():
+        lead = len(core) - len(core.lstrip())
+        fig.add_artist(Text(x + lead * step, y, core.lstrip(), family="Courier",
+                            weight="bold" if weight == "bold" else "medium", **props))
     start = 0
-    for core, group in itertools.groupby(text, _courier_has):
+    for has, group in itertools.groupby(text, _courier_has):
         run = "".join(group)
-        if run.strip():
-            lead = len(run) - len(run.lstrip())
-            cls = Text if core else _embedded_text()
-            fig.add_artist(cls(x + (start + lead) * step, y, run.strip(), fontsize=size, parse_math=False,
-                               family="Courier" if core else "DejaVu Sans Mono", color=color,
-                               weight=("bold" if weight == "bold" else "medium") if core else weight,
-                               transform=fig.transFigure))
+        if not has:
+            fig.add_artist(_embedded_text()(x + start * step, y, run, family="DejaVu Sans Mono", weight=weight,
+                                            **props))
         start += len(run)
 
 

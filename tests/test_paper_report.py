@@ -1,0 +1,282 @@
+"""The paper as a whole (issue 13): paper-table.{md,csv,tex} in the paper's order, index.md with the verdict totals,
+report.pdf (read back from its own bytes: the text of every page is searched for every experiment and every row),
+and the short summary that `reproduce --all` prints."""
+
+import csv
+import itertools
+import json
+import re
+import zlib
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from cli import main
+from cli.main import app
+from reproductions import api, report
+from reproductions.config import REASONS
+
+runner = CliRunner()
+
+
+# -- reading a PDF back, with nothing but zlib -----------------------------------------------------------------------
+_TEXT_OP = re.compile(rb"BT\s*/\w+\s+([\d.]+)\s+Tf\s+([-\d.]+)\s+([-\d.]+)\s+Td\s*\(((?:\\.|[^\\)])*)\)\s*Tj", re.S)
+_ESCAPES = {b"n": b"\n", b"r": b"\r", b"t": b"\t", b"b": b"\b", b"f": b"\f"}
+
+
+def _unescape(s: bytes) -> str:
+    def one(m: re.Match) -> bytes:
+        c = m.group(1)
+        if c[:1].isdigit():
+            return bytes([int(c, 8)])
+        return _ESCAPES.get(c, c)
+
+    return re.sub(rb"\\([0-7]{1,3}|.)", one, s, flags=re.S).decode("cp1252")
+
+
+def pdf_pages(data: bytes) -> list[list[str]]:
+    """The text lines of each page of a PDF that matplotlib wrote: every content stream (inflated where it is
+    compressed) that draws text, its strings grouped by baseline, top to bottom, and joined left to right. Glyphs
+    drawn as pictures (the embedded font's Greek letters) are not text and do not appear."""
+    pages = []
+    for raw in re.findall(rb"stream\r?\n(.*?)\r?\nendstream", data, re.S):
+        try:
+            stream = zlib.decompress(raw)
+        except zlib.error:
+            stream = raw
+        runs = [(float(y), float(x), _unescape(s)) for _, x, y, s in _TEXT_OP.findall(stream)]
+        if not runs:
+            continue
+        lines: dict[float, list[tuple[float, str]]] = {}
+        for y, x, s in runs:
+            lines.setdefault(round(y, 2), []).append((x, s))
+        pages.append([" ".join(s for _, s in sorted(lines[y])) for y in sorted(lines, reverse=True)])
+    return pages
+
+
+def _tokens(line: str) -> list[str]:
+    return line.split()
+
+
+# -- the real experiments ----------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def written(tmp_path_factory):
+    out = tmp_path_factory.mktemp("results")
+    res = runner.invoke(app, ["reproduce", "--all", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    summaries = [json.loads((out / e / "summary.json").read_text()) for e in api.experiment_ids()]
+    return out, summaries, res.stdout
+
+
+def test_reproduce_all_prints_one_short_summary(written):
+    out, summaries, stdout = written
+    lines = [ln for ln in stdout.splitlines() if ln.strip()]
+    assert len(lines) == len(summaries) + 1, stdout  # one line per experiment, then the totals
+    for s, ln in zip(summaries, lines, strict=False):
+        counts, _ = report.verdict_counts(s["rows"])
+        assert ln.split()[0] == s["experiment"] and ln.endswith(str(out / s["experiment"])), ln
+        assert [int(n) for n in re.findall(r"(\d+) (?:reproduced|differs|not-checkable)", ln)] == \
+            [counts[v] for v in report.VERDICTS], ln
+    total, why = report.verdict_counts([r for s in summaries for r in s["rows"]])
+    assert lines[-1].startswith("total")
+    assert [int(n) for n in re.findall(r"(\d+) (?:reproduced|differs|not-checkable)", lines[-1])] == \
+        [total[v] for v in report.VERDICTS]
+    assert all(f"{k} {n}" in lines[-1] for k, n in why.items())
+
+
+def test_one_experiment_or_verbose_prints_the_full_tables(tmp_path, monkeypatch):
+    monkeypatch.setattr(main.out_console, "width", 250)  # a wide terminal: the table's words stay whole
+    one = runner.invoke(app, ["reproduce", "marble-drop", "--out", str(tmp_path)])
+    assert one.exit_code == 0, one.output
+    assert "quantity" in one.stdout and "reason" in one.stdout and "0,155" in one.stdout
+    two = runner.invoke(app, ["reproduce", "marble-drop", "coriolis-cushion", "--verbose", "--out", str(tmp_path)])
+    assert two.exit_code == 0, two.output
+    assert two.stdout.count("quantity") == 2 and "0,155" in two.stdout
+    short = runner.invoke(app, ["reproduce", "marble-drop", "coriolis-cushion", "--out", str(tmp_path)])
+    assert short.exit_code == 0 and "quantity" not in short.stdout and len(short.stdout.splitlines()) == 3
+
+
+def test_the_paper_table_is_in_the_papers_order(written):
+    out, summaries, _ = written
+    with (out / "paper-table.csv").open(newline="", encoding="utf-8") as fh:
+        table = list(csv.DictReader(fh))
+    assert len(table) == sum(len(s["rows"]) for s in summaries)
+    assert [c for c in table[0]] == list(report.PAPER_CSV)
+    lines = [int(r["line"]) for r in table if r["line"]]
+    assert lines == sorted(lines)
+    assert all(r["line"] for r in table[:len(lines)])  # rows without a line come after those with one
+    order = [s["experiment"] for _, s in report._summaries(out)]
+    tail = [order.index(r["experiment"]) for r in table[len(lines):]]
+    assert tail == sorted(tail)
+    by_key = {(s["experiment"], r["id"]): r for s in summaries for r in s["rows"]}
+    for r in table:
+        row = by_key[(r["experiment"], r["id"])]
+        assert (r["verdict"], r["reason"] or None, r["printed"]) == (row["verdict"], row["reason"],
+                                                                       row["printed_text"])
+        assert r["section"].startswith("§")
+        assert row["verdict"] != "reproduced" or not r["reason"]
+    md = [ln for ln in (out / "paper-table.md").read_text().splitlines() if ln.startswith("| ")]
+    assert md[0].split(" | ")[:6] == ["| experiment", "section", "n°", "equation", "line", "id"]
+    assert "today's value" in md[0] and len(md) == len(table) + 1
+
+
+def test_the_index_gives_the_totals_then_each_experiment_with_its_figures_and_tables(written):
+    out, summaries, _ = written
+    index = (out / "index.md").read_text()
+    total, _ = report.verdict_counts([r for s in summaries for r in s["rows"]])
+    head = index.split("## Experiments")[0]
+    assert (f"**{total['reproduced']} reproduced**, **{total['differs']} differ**, "
+            f"**{total['not-checkable']} not checkable**") in head
+    for s in summaries:
+        eid = s["experiment"]
+        section = index.split(f"### [{eid}]({eid}/table.md)")[1].split("\n### ")[0]
+        counts, _ = report.verdict_counts(s["rows"])
+        assert f"{counts['reproduced']} reproduced, {counts['differs']} differs" in section
+        for name in ("table.md", "table.csv", "table.tex", "summary.json"):
+            assert f"({eid}/{name})" in section
+        pngs = [f for f in s["figures"] if f.endswith(".png")]
+        assert pngs and all(f"![{eid}/{f}]({eid}/{f})" in section for f in pngs)
+    for target in re.findall(r"\]\(([^)]+)\)", index):  # every link and image resolves, relative to index.md
+        assert (out / target).is_file(), target
+
+
+def test_report_pdf_holds_every_experiment_row_and_figure(written):
+    out, summaries, _ = written
+    data = (out / "report.pdf").read_bytes()
+    assert data.startswith(b"%PDF") and b"/CreationDate" not in data and b"/Producer" not in data
+    pages = pdf_pages(data)
+    index_page = pages[0]
+    for s in summaries:  # its line: id, section, then reproduced, differs, not checkable, figures
+        counts, _ = report.verdict_counts(s["rows"])
+        want = [counts[v] for v in report.VERDICTS] + [sum(f.endswith(".png") for f in s["figures"])]
+        found = [m.groups() for ln in index_page
+                 if (m := re.match(rf"{re.escape(s['experiment'])}\s.*?\s(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s", ln))]
+        assert [[int(n) for n in g] for g in found] == [want], (s["experiment"], index_page)
+    # the paper table: a row's first line has its id, verdict and reason; the next line its experiment
+    pairs = [(a, b) for page in pages for a, b in itertools.pairwise(page)]
+    for s in summaries:
+        for r in s["rows"]:
+            want = {r["id"], r["verdict"]} | ({r["reason"]} if r["reason"] else set())
+            assert any(want <= set(_tokens(a)) and s["experiment"] in _tokens(b) for a, b in pairs), \
+                (s["experiment"], r["id"], r["verdict"])
+    text = "\n".join(ln for page in pages for ln in page)
+    for s in summaries:
+        for f in s["figures"]:
+            if f.endswith(".png"):
+                assert f"{s['experiment']}/{f}" in text
+    n_png = sum(f.endswith(".png") for s in summaries for f in s["figures"])
+    assert len(re.findall(rb"/Subtype\s*/Image", data)) >= n_png
+
+
+# -- hand-made summaries: the order, the columns, today's values, totals per reason, atomic writing -----------------
+def _png(path: Path, title: str) -> None:
+    from PIL import Image, PngImagePlugin
+
+    info = PngImagePlugin.PngInfo()
+    info.add_text("Title", title)
+    Image.new("RGB", (40, 30), (200, 30, 30)).save(path, pnginfo=info)
+
+
+def _row(rid: str, source: str, line: int | None, verdict: str, reason: str | None = None,
+         today: str | None = None) -> dict:
+    return {"id": rid, "quantity": f"claim {rid} with ε′ and ν", "source": source, "printed": 0.5,
+            "printed_text": f"{rid} = 0,5", "computed": 0.5, "rel_diff": 0.0, "tolerance": 0.01,
+            "tolerance_rule": "", "verdict": verdict, "note": "why" if verdict == "differs" else "", "line": line,
+            "reason": reason, "today": today}
+
+
+MODERN = [{"symbol": "e_c", "quantity": "ball-cushion restitution", "resal": 0.55, "resal_what": "ν", "low": 0.6,
+           "typ": None, "high": 0.9, "source": "Alciatore FAQ", "note": ""},
+          {"symbol": "e_c", "quantity": "ball-cushion restitution", "resal": 0.55, "resal_what": "ν", "low": None,
+           "typ": 0.818, "high": None, "source": "Mathavan, Jackson & Parkin 2009, Am. J. Phys. 77, 788", "note": ""}]
+
+
+@pytest.fixture
+def hand_made(tmp_path):
+    out = tmp_path / "out"
+    exps = {
+        "alpha": (70, [_row("a1", "§II n°7, eq. (3)", 300, "reproduced"),
+                       _row("a2", "§II n°7", None, "differs"),
+                       _row("a3", "§IV n°11, eqs (5), (8)", 100, "differs", "erratum", today="e_c")]),
+        "beta": (65, [_row("b1", "§I n°5, eq. (b)", 200, "differs", "rounding"),
+                      _row("b2", "somewhere in the footnotes", None, "not-checkable"),
+                      _row("b3", "§III n°8-10", 200, "reproduced", today="mu_x")]),
+    }
+    for eid, (page, rows) in exps.items():
+        d = out / eid
+        d.mkdir(parents=True)
+        _png(d / f"{eid}-fig.png", f"the figure of {eid}")
+        s = {"experiment": eid, "title": f"Experiment {eid}", "kind": "x",
+             "source": {"section": "§I", "page": page, "equations": []}, "rows": rows, "fits": [],
+             "modern": MODERN, "figures": [f"{eid}-fig.png", f"{eid}-fig.pdf"]}
+        (d / "summary.json").write_text(json.dumps(s, ensure_ascii=False))
+    return out
+
+
+@pytest.mark.parametrize(("source", "parsed"), [
+    ("§II n°7, eq. (3)", ("§II", "7", "eq. (3)")),
+    ("§V n°12, eqs (5), (8)", ("§V", "12", "eqs (5), (8)")),
+    ("§III n°10, footnote", ("§III", "10", "footnote")),
+    ("§III n°8-10", ("§III", "8-10", "")),
+    ("§VII n°14", ("§VII", "14", "")),
+    ("§V n°12, §VI n°13", ("§V n°12, §VI n°13", "", "")),
+    ("Coriolis 1835, p. 12", ("Coriolis 1835, p. 12", "", "")),
+])
+def test_a_source_gives_section_number_and_equation_or_stays_whole(source, parsed):
+    assert report.parse_source(source) == parsed
+
+
+def test_todays_value_comes_from_the_experiments_modern_entries():
+    assert report.today_value("e_c", MODERN) == "0.6–0.9 (Alciatore FAQ); 0.818 (Mathavan 2009)"
+    assert report.today_value(None, MODERN) == ""
+    assert "mu_x" in report.today_value("mu_x", MODERN)
+
+
+def test_hand_made_summaries_give_the_papers_order_and_totals(hand_made):
+    out = hand_made
+    report.write_index(out)
+    with (out / "paper-table.csv").open(newline="", encoding="utf-8") as fh:
+        table = list(csv.DictReader(fh))
+    # by line (ties in experiment order: beta's page comes first), then the rows without a line, experiment order
+    assert [(r["experiment"], r["id"]) for r in table] == [
+        ("alpha", "a3"), ("beta", "b1"), ("beta", "b3"), ("alpha", "a1"), ("beta", "b2"), ("alpha", "a2")]
+    a3 = table[0]
+    assert (a3["section"], a3["n"], a3["equation"], a3["line"], a3["reason"]) == ("§IV", "11", "eqs (5), (8)", "100",
+                                                                                  "erratum")
+    assert a3["today"] == "0.6–0.9 (Alciatore FAQ); 0.818 (Mathavan 2009)" and a3["today_symbol"] == "e_c"
+    assert table[4]["section"] == "somewhere in the footnotes" and table[4]["n"] == ""
+    index = (out / "index.md").read_text()
+    head = index.split("## Experiments")[0]
+    assert "**2 reproduced**, **3 differ**, **1 not checkable**" in head
+    assert f"| erratum | 1 | {REASONS['erratum']} |" in head and "| none given | 1 |" in head
+    assert "![alpha/alpha-fig.png](alpha/alpha-fig.png)" in index
+    tex = (out / "paper-table.tex").read_text()
+    assert tex.count(r"\\") == len(table) + 1 and r"\§IV" not in tex and "§IV" in tex
+
+    pages = pdf_pages((out / "report.pdf").read_bytes())
+    assert any("6 printed values and claims in 2 experiments" in ln for ln in pages[0])
+    pairs = [(a, b) for page in pages for a, b in itertools.pairwise(page)]
+    for eid, rid, verdict, reason in (("alpha", "a3", "differs", "erratum"), ("beta", "b1", "differs", "rounding"),
+                                      ("alpha", "a2", "differs", None), ("beta", "b2", "not-checkable", None)):
+        want = {rid, verdict} | ({reason} if reason else set())
+        assert any(want <= set(_tokens(a)) and eid in _tokens(b) for a, b in pairs), rid
+    assert any("alpha/alpha-fig.png: the figure of alpha" in ln for page in pages for ln in page)
+
+
+def test_the_report_is_the_same_bytes_twice_and_written_whole(hand_made, monkeypatch):
+    out = hand_made
+    report.write_index(out)
+    first = (out / "report.pdf").read_bytes()
+    report.write_index(out)
+    assert (out / "report.pdf").read_bytes() == first
+
+    def broken(fh, *args):
+        fh.write(b"%PDF-half")
+        raise RuntimeError("interrupted while writing")
+
+    monkeypatch.setattr(report, "report_pdf", broken)
+    with pytest.raises(RuntimeError):
+        report.write_index(out)
+    assert (out / "report.pdf").read_bytes() == first
+    assert not [p.name for p in out.iterdir() if p.name.startswith(".")]
