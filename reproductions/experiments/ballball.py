@@ -442,9 +442,10 @@ def _first_order_claims(p: Params, out: dict[str, float], info: dict[str, Any]) 
             dig = M * om1 * (2 * o["chi"] - om1 * (1 + mu) + 2 * f * cg * (ty - 2 * f * sg * tz))
             orig = M * om1 * (2 * o["chi"] - om1 * (1 + mu) + 2 * f * cg * ty - 2 * f * sg * tz)
             corr = orig - 2 * M * om1 * o["chip"]
-            put("loss_digitised", np.abs(dig - loss) / (M * V * V))
-            put("loss_original", np.abs(orig - loss) / (M * V * V))
-            put("loss_corrected", np.abs(corr - loss) / (M * V * V))
+            rel2 = ((v - vp)**2).sum(-1)  # the vis viva scale of the relative motion (V² for M′ at rest)
+            put("loss_digitised", np.abs(dig - loss) / (M * rel2))
+            put("loss_original", np.abs(orig - loss) / (M * rel2))
+            put("loss_corrected", np.abs(corr - loss) / (M * rel2))
             # (14), (14′): A = 2(χ0 − χ′0) + 2f v0 (the first-order loss), v the slip of M′ on M at the greatest
             # compression (the rigid integration's)
             wc = np.zeros(len(v0))
@@ -617,7 +618,7 @@ def _claim_rows(p: Params, c: dict[str, float], info: dict[str, Any]) -> dict[st
         f"rolling (f = {p.f:g})"), lambda _p: (
         "erratum: the first term is 2(χ0 − χ′0) (M′(χ′0² − χ′1²) = −Mω1(2χ′0 + Mω1/M′)), not 2χ0: the printed form "
         f"holds only for M′ at rest, assumed later (line 717); with 2(χ0 − χ′0) the discrepancy is "
-        f"{fo['moving']['loss_corrected']:.1e} of M V²"))
+        f"{fo['moving']['loss_corrected']:.1e} of M |v − v′|²"))
     out["loss_first_order_at_rest"] = Computed(c["loss_first_order_at_rest"], rolling + (
         " (the likely original; of M V²)"))
     out["eq14_first_order"] = Computed(c["eq14_first_order"], rolling + (
