@@ -45,3 +45,18 @@ def test_compare_catches_a_moved_number_and_a_flipped_verdict(summaries):
     diffs = golden.compare(g, moved)
     assert len(diffs) == 3 and diffs[1].startswith("rows.eq7.computed")
     assert golden.compare(g, s) == []
+
+
+def test_every_row_that_differs_names_its_reason_and_no_other_row_does(summaries):
+    """Issue 13: a `differs` row says why (a code of config.REASONS); a reproduced or not-checkable row carrying a
+    reason is a stale expectation of the config."""
+    from reproductions.config import REASONS
+
+    bad = []
+    for eid, s in summaries.items():
+        for r in s["rows"]:
+            if r["verdict"] == "differs" and r.get("reason") not in REASONS:
+                bad.append(f"{eid}/{r['id']}: differs without a reason")
+            if r["verdict"] != "differs" and r.get("reason") is not None:
+                bad.append(f"{eid}/{r['id']}: {r['verdict']} but carries reason {r['reason']!r}")
+    assert not bad, "\n".join(bad)
