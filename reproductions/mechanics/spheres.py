@@ -341,7 +341,7 @@ class RigidImpact:
 
 def rigid_body_impulse(M: float, Mp: float, R: float, Rp: float, k: float, kp: float, v: ArrayLike, w: ArrayLike,
                        vp: ArrayLike, wp: ArrayLike, f: float, xi_max: float, on_cloth: bool = False,
-                       rtol: float = 1e-11) -> RigidImpact:
+                       rtol: float = 1e-13) -> RigidImpact:
     """One impact of §V (free) or §VI (``on_cloth``) integrated over the normal impulse ξ ∈ [0, ξ_max] from
     ``newton_euler_rates`` (DOP853, dense output), independent of every closed form and of law (6): a reference
     for the paper's derivation steps, eqs (1)–(10) of n°12–13. After the slip stops only the normal impulse
