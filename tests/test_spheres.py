@@ -242,3 +242,15 @@ def test_cloth_normal_impulse_is_iterated_to_its_fixed_point():
     finally:
         spheres.FIXED_POINT_MAXITER = six
     assert not bool(r6.converged) and abs(float(r6.v1p[0]) / float(r.v1p[0]) - 1) > 0.05
+
+
+@pytest.mark.parametrize("on_cloth", [False, True])
+def test_newton_euler_rates_for_one_state_equal_the_vector_form(on_cloth):
+    """The float fast path of one state (what the ODE calls) against the batch's vector cross products."""
+    rng = np.random.default_rng(11)
+    for _ in range(50):
+        y = rng.normal(size=12)
+        M, Mp, R, Rp, k, kp, f = rng.uniform(0.1, 2.0, 7)
+        one = spheres.newton_euler_rates(M, Mp, R, Rp, k, kp, y, f, on_cloth)
+        batch = spheres.newton_euler_rates(M, Mp, R, Rp, k, kp, y[None, :], f, on_cloth)[0]
+        np.testing.assert_allclose(one, batch, rtol=1e-14, atol=1e-15 * np.abs(batch).max())
