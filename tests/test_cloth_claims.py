@@ -71,12 +71,14 @@ def test_y1_erratum_the_printed_ordinate_lacks_exactly_the_half_of_fgt2(scene):
     a, alpha, v0, t1, (X1, Y1), *_ = _onset(*scene)
     printed = (a * math.sin(alpha) - v0 / (1 + K)) * v0 / (F * G * (1 + K))
     corrected = (a * math.sin(alpha) - v0 / (2 * (1 + K))) * v0 / (F * G * (1 + K))
-    assert corrected == pytest.approx(Y1, abs=1e-9 * a * t1)
+    # against the integrated motion (DOP853 at rtol 1e-11; its position error reached 3e-9 a t1 under another
+    # OpenBLAS kernel): 1e-8 a t1, while the printed value is 0.1 a t1 off
+    assert corrected == pytest.approx(Y1, abs=1e-8 * a * t1)
     # the printed value is short by fg t1²/2, the term whose 1/2 it lost, and that is not small
     assert printed - Y1 == pytest.approx(-0.5 * F * G * t1**2, rel=1e-8)
     assert abs(printed - Y1) > 0.1 * a * t1
     x1 = a * v0 * math.cos(alpha) / (F * G * (1 + K))  # x1 as printed is right
-    assert x1 == pytest.approx(X1, abs=1e-9 * a * t1)
+    assert x1 == pytest.approx(X1, abs=1e-8 * a * t1)
 
 
 def test_eq5_erratum_the_printed_parabola_is_not_homogeneous_and_the_derived_one_holds():
@@ -87,7 +89,7 @@ def test_eq5_erratum_the_printed_parabola_is_not_homogeneous_and_the_derived_one
     X, Y = P @ ex, P @ ey
     tg = math.tan(alpha)
     derived = X * tg - F * G * (1 + tg**2) * X**2 / (2 * a**2)
-    assert np.max(np.abs(derived - Y)) < 1e-9 * a * t1
+    assert np.max(np.abs(derived - Y)) < 1e-8 * a * t1  # the integration: see the y1 test
 
     def printed(x, a_, g_):  # y = a tang α x − (fg/2)(1 + tang² α) x², in any unit of length
         return a_ * tg * x - F * g_ / 2 * (1 + tg**2) * x**2
