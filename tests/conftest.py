@@ -11,6 +11,8 @@ import platform
 import sys
 from pathlib import Path
 
+import pytest
+
 AVX512_KERNELS = {"skylakex", "cooperlake", "sapphirerapids"}
 _DROPPED: list[str] = []
 
@@ -44,3 +46,17 @@ def pytest_report_header(config):
 def pytest_terminal_summary(terminalreporter):  # also under -q, where the header is not shown
     if _DROPPED:
         terminalreporter.write_line(_message())
+
+
+@pytest.fixture(scope="session")
+def reproduced_all(tmp_path_factory):
+    """One ``resal reproduce --all`` for the whole session, (folder, stdout): read it, never change it (a test that
+    changes results copies the folder first)."""
+    from typer.testing import CliRunner
+
+    from cli.main import app
+
+    out = tmp_path_factory.mktemp("reproduced-all")
+    res = CliRunner().invoke(app, ["reproduce", "--all", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    return out, res.stdout

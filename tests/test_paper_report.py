@@ -61,12 +61,10 @@ def _tokens(line: str) -> list[str]:
 
 # -- the real experiments ----------------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
-def written(tmp_path_factory):
-    out = tmp_path_factory.mktemp("results")
-    res = runner.invoke(app, ["reproduce", "--all", "--out", str(out)])
-    assert res.exit_code == 0, res.output
+def written(reproduced_all):
+    out, stdout = reproduced_all
     summaries = [json.loads((out / e / "summary.json").read_text()) for e in api.experiment_ids()]
-    return out, summaries, res.stdout
+    return out, summaries, stdout
 
 
 def test_reproduce_all_prints_one_short_summary(written):

@@ -13,11 +13,8 @@ runner = CliRunner()
 
 
 @pytest.fixture(scope="module")
-def written(tmp_path_factory):
-    out = tmp_path_factory.mktemp("results")
-    res = runner.invoke(app, ["reproduce", "--all", "--out", str(out)])
-    assert res.exit_code == 0, res.output
-    return out
+def written(reproduced_all):
+    return reproduced_all[0]
 
 
 NO_FIGURES = {"impact-law"}  # §I n°2-4: identities and principles checked on sampled configurations; no curve
