@@ -101,6 +101,8 @@ def test_ocr_rows_the_likely_original_reproduces(ballball):
         assert rows[key].reason == "ocr" and rows[key].computed > 1e-3, key
         assert c[f"{rows[key].id}_original" if key != "impact_integrals" else "impact_integrals_original"] < 1e-12
     assert rows["eq3_substituted"].computed > 1 and c["eq3_substituted_original"] < 1e-12
+    # (4) on the cloth as digitised lacks the R of R(p − p0); with it (the form (1′) uses) it reproduces
+    assert rows["eq4_cloth"].reason == "ocr" and rows["eq4_cloth"].computed > 1 and c["eq4_cloth"] < 1e-12
     assert info["eq8_corrected"] < 1e-12  # (8) with k′ in its denominator is the exact path while sliding
 
 

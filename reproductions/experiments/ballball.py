@@ -25,9 +25,9 @@ QUANTITIES = ("free_direction", "eq5", "eq8_as_printed", "resal_sliding_error", 
               "eq1_free", "eq2_digitised", "eq2p_digitised", "eq3_free", "integrals_digitised", "eq3_substituted",
               "impact_integrals_digitised", "eq4_definition", "eq_a_digitised", "eq_b", "eq_bp", "eq_c", "eq6_law",
               "eq7_sliding", "eq7_slip_stopped", "omega_compression", "f_bound", "eq1_cloth", "eq2_cloth",
-              "eq2p_cloth", "eq3_cloth", "eq4_cloth", "eq1p_cloth", "eq5_cloth", "eq6_cloth", "eq7_cloth",
-              "eq8_cloth", "eq9_cloth", "cloth_direction_constant_share", "eq10_cloth", "premise_rolling",
-              "premise_stun", "eq12_definition", "eq11_first_order", "eq13_first_order",
+              "eq2p_cloth", "eq3_cloth", "eq4_cloth", "eq4_cloth_digitised", "eq1p_cloth", "eq5_cloth",
+              "eq6_cloth", "eq7_cloth", "eq8_cloth", "eq9_cloth", "cloth_direction_constant_share", "eq10_cloth",
+              "premise_rolling", "premise_stun", "eq12_definition", "eq11_first_order", "eq13_first_order",
               "loss_first_order_digitised", "loss_first_order_original", "loss_first_order_at_rest",
               "eq14_first_order", "eq14p_first_order", "omega1_first_order", "omega_compression_cloth",
               "first_order_stun", "resal_cloth_energy_stun", "resal_cloth_energy_beyond")
@@ -313,8 +313,8 @@ def _cloth_claims(p: Params, seed: int, out: dict[str, float], info: dict[str, A
     v, w, vp, wp, Mp_, f_, eps_, epsp_ = _random(seed + 202, 30, True)
     f_ = 0.1 + f_  # friction large enough for the turn of the slip to show
     ex = spheres.two_spheres(M, Mp_, R, Rp, k, kp, v, w, vp, wp, f=f_, eps=eps_, epsp=epsp_, on_cloth=True)
-    keys = ("eq1_cloth", "eq2_cloth", "eq2p_cloth", "eq3_cloth", "eq4_cloth", "eq1p_cloth", "eq5_cloth",
-            "eq6_cloth", "eq7_cloth", "eq8_cloth", "eq9_cloth", "eq10_cloth", "omega_compression_cloth")
+    keys = ("eq1_cloth", "eq2_cloth", "eq2p_cloth", "eq3_cloth", "eq4_cloth", "eq4_cloth_digitised", "eq1p_cloth",
+            "eq5_cloth", "eq6_cloth", "eq7_cloth", "eq8_cloth", "eq9_cloth", "eq10_cloth", "omega_compression_cloth")
     acc = {key: 0.0 for key in keys}
     turns, kept = [], 0
 
@@ -356,6 +356,9 @@ def _cloth_claims(p: Params, seed: int, out: dict[str, float], info: dict[str, A
         put("eq4_cloth", np.max(np.abs([P["etap"] - o["etap"] + mu * de, R * (P["q"] - o["q"]) - k * de,
                                         R * (P["qp"] - o["qp"]) - kp * mu * de,
                                         R * (P["pp"] - o["pp"]) - kp / k * mu * R * dp_])) / v0)
+        # the last line as digitised, Rp′ = Rp′0 + (k′/k)(M/M′)(p − p0): no R before (p − p0), in SI units
+        put("eq4_cloth_digitised", max(acc["eq4_cloth"], np.max(np.abs(R * (P["pp"] - o["pp"]) - kp / k * mu * dp_))
+                                       / v0))
         a = 1 + k + mu * (1 + kp)
         b = k * (1 + M * kp / (Mp * k))
         vy1 = de * a + o["eta"] - o["etap"] + R * (o["q"] + o["qp"])
@@ -551,6 +554,12 @@ def _claim_rows(p: Params, c: dict[str, float], info: dict[str, Any]) -> dict[st
         "eq1_cloth", "eq2_cloth", "eq2p_cloth", "eq3_cloth", "eq4_cloth", "eq1p_cloth", "eq5_cloth", "eq6_cloth",
         "eq7_cloth", "eq8_cloth", "eq9_cloth", "eq10_cloth")})
     out["omega_compression_cloth"] = Computed(c["omega_compression_cloth"], cloth + "; and the rolling cut scenes")
+    out["eq4_cloth_digitised"] = Computed(c["eq4_cloth_digitised"], cloth, lambda _p: (
+        "OCR (or a slip of the original): the digitised last line of (4), Rp′ = Rp′0 + (k′/k)(M/M′)(p − p0), has "
+        "lost the R before (p − p0) and is not homogeneous (a rotation where a velocity belongs; the discrepancy, "
+        "in SI units, is that of R(p′ − p′0) against (k′/k)(M/M′)(p − p0)); the likely original "
+        "Rp′ = Rp′0 + (k′/k)(M/M′)R(p − p0), which (1′) uses, reproduces (discrepancy "
+        f"{c['eq4_cloth']:.1e})"))
     out["eq2_cloth"] = Computed(c["eq2_cloth"], cloth + (
         "; the digitised text's dx/dt, dx_i/dt and v′ are the glyphs of dχ/dt, dη/dt and v"))
     out["eq2p_cloth"] = Computed(c["eq2p_cloth"], cloth + "; the digitised v′ in (2′) is the glyph of v")
