@@ -29,7 +29,8 @@ from .base import (
 
 QUANTITIES = ("eq_b_vs_integration", "eq7_vs_integration", "eq8_vs_integration", "n_equations", "combination",
               "momentum_balance", "epsp_given_eps", "eps_given_epsp", "swapped_struck_ratio", "translation_kept",
-              "momentum_vs_integration", "law6_vs_integration", "max_rank", "speed_range")
+              "momentum_vs_integration", "law6_vs_integration", "max_rank", "speed_range",
+              "mass_ratio")
 MODERN = ("e_tip", "m_ball/m_cue")
 
 
@@ -229,6 +230,7 @@ def run(exp: Experiment) -> Reproduction:
                                              "data that keep momentum make the two equations one: a single "
                                              "experiment never gives two distinct equations (two mass ratios would)"),
         "speed_range": Computed(None, "a measured range"),
+        "mass_ratio": Computed(None, "a datum of the experiment: M′/M is its input (params.struck, params.striker)"),
         "eps_given_epsp": Computed(
             eps_given_epsp,
             f"n°5 justifies ε = 0 by a ball keeping its shape, but in n°5's notation ε belongs to the striking "
