@@ -40,9 +40,11 @@ def pdf_pages(data: bytes) -> list[list[str]]:
     compressed) that draws text, its strings grouped by baseline, top to bottom, and joined left to right. Glyphs
     drawn as pictures (the embedded font's Greek letters) are not text and do not appear."""
     pages = []
-    for raw in re.findall(rb"stream\r?\n(.*?)\r?\nendstream", data, re.S):
+    # a compressed stream may end in the byte \r: keep it (matplotlib ends a stream with \n alone), and let
+    # decompressobj ignore whatever follows the zlib data (a page was lost when its last byte was stripped)
+    for raw in re.findall(rb"stream\r?\n(.*?)\nendstream", data, re.S):
         try:
-            stream = zlib.decompress(raw)
+            stream = zlib.decompressobj().decompress(raw)
         except zlib.error:
             stream = raw
         runs = [(float(y), float(x), _unescape(s)) for _, x, y, s in _TEXT_OP.findall(stream)]
@@ -144,6 +146,7 @@ def test_report_pdf_holds_every_experiment_row_and_figure(written):
     data = (out / "report.pdf").read_bytes()
     assert data.startswith(b"%PDF") and b"/CreationDate" not in data and b"/Producer" not in data
     pages = pdf_pages(data)
+    assert len(pages) == len(re.findall(rb"/Type\s*/Page(?!s)", data))  # every page read back (each has text)
     index_page = pages[0]
     for s in summaries:  # its line: id, section, then reproduced, differs, not checkable, figures
         counts, _ = report.verdict_counts(s["rows"])
