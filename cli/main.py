@@ -12,6 +12,7 @@ import math
 import os
 import shutil
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any, NoReturn
 
@@ -56,15 +57,18 @@ def _out_folder(text: str | Path) -> Path:
     return Path(text)
 
 
-def _jobs(text: str) -> int:
-    """``--jobs``: a whole number of processes in [1, MAX_JOBS]."""
-    try:
-        n = int(text)
-    except ValueError:
-        n = None
-    if n is None or not 1 <= n <= MAX_JOBS:
-        _fail(InputError(f"--jobs {text}", f"expected a number of processes, a whole number in [1, {MAX_JOBS}]"))
-    return n
+def _count(name: str, lo: int, hi: int, what: str = "") -> Callable[[str], int]:
+    """A parser of option ``name``: a whole number in [lo, hi] (every count that sizes work has a bound)."""
+    def parse(text: str) -> int:
+        try:
+            n = int(text)
+        except ValueError:
+            n = None
+        if n is None or not lo <= n <= hi:
+            _fail(InputError(f"{name} {text}", f"expected {what + ', ' if what else ''}a whole number in "
+                                               f"[{lo:,}, {hi:,}]"))
+        return n
+    return parse
 
 
 @app.command("list")
@@ -131,7 +135,7 @@ def reproduce(
     as_json: Annotated[bool, typer.Option("--json", help="print summary.json on stdout instead of tables")] = False,
     out: Annotated[Path, typer.Option("--out", help="results folder", parser=_out_folder)] = Path("results"),
     jobs: Annotated[int | None, typer.Option(help=f"processes, 1 to {MAX_JOBS} (default: one per core)",
-                                             parser=_jobs)] = None,
+                                             parser=_count("--jobs", 1, MAX_JOBS, "a number of processes"))] = None,
     verbose: Annotated[bool, typer.Option("--verbose", "-v", help="print every experiment's full table (one "
                                                                   "experiment always does)")] = False,
 ) -> None:
@@ -346,18 +350,6 @@ def bench(
                       "—" if e is None else f"{e:.2e}", ("wrong" if wrong else "right") if r["path"] == "auto" else "")
     out_console.print(t)
     err_console.print(f"wrote {', '.join(str(p) for p in written[:2])} and {len(written) - 2} figure files")
-
-
-def _count(name: str, lo: int, hi: int):
-    def parse(text: str) -> int:
-        try:
-            n = int(text)
-        except ValueError:
-            n = None
-        if n is None or not lo <= n <= hi:
-            _fail(InputError(f"{name} {text}", f"expected a whole number in [{lo:,}, {hi:,}]"))
-        return n
-    return parse
 
 
 @app.command()
