@@ -20,6 +20,7 @@ sigma, no uncertainty is claimed.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Callable, Sequence
@@ -39,7 +40,9 @@ __all__ = [
     "FitResult",
     "Identifiability",
     "analyse",
+    "fit_bounces",
     "fit_direct_impact",
+    "fit_imprints",
     "fit_physical",
     "fit_physical_positions",
     "fit_positions",
@@ -47,6 +50,8 @@ __all__ = [
     "fit_times",
     "least_squares_fit",
     "orient",
+    "synthetic_bounces",
+    "synthetic_imprints",
 ]
 
 RANK_RTOL = 1e-7  # singular values below this fraction of the largest count as zero (finite-difference J)
@@ -594,8 +599,34 @@ def fit_physical(x: np.ndarray, t: np.ndarray | None, start: FitResult, *, R: fl
     return least_squares_fit(res, x0, PHYSICAL, PHYSICAL_BOUNDS, sigma=1.0)
 
 
-def fit_times(t: np.ndarray, *, g: float) -> FitResult:
-    """Fit (ν, ζ1) to impact instants (the acoustic method): flights last T_j = 2ν^j ζ1/g (§III n°9)."""
+def fit_times(t: np.ndarray, *, g: float, origin: str = "first", sigma: float | None = None) -> FitResult:
+    """Fit (ν, ζ1) to impact instants (the acoustic method): flights last T_j = 2ν^j ζ1/g (§III n°9).
+
+    ``origin="first"`` (the default, as the experiments print it): the instants are measured from the first, taken
+    as exact; its jitter then enters every residual and the Wald interval of ν covers ~90 % (not 95 %).
+    ``origin="fitted"``: the first instant t0 is a parameter too (``fit_bounces`` with ζ1 = g T1/2), parameters
+    (ν, ζ1, t0), ν's interval the profile-likelihood one; ``sigma`` (s, the timing jitter) only then.
+    """
+    if origin == "fitted":
+        fb = fit_bounces(t, g=g, sigma=sigma)
+        nu, T1, t0 = fb.point
+        n = np.asarray(t).size
+        tt = np.asarray(t, dtype=float)
+
+        def res_z(th: np.ndarray) -> np.ndarray:
+            return th[2] + 2.0 * th[1] / g * _bounce_sums(th[0], n) - tt
+
+        def jac_z(th: np.ndarray) -> np.ndarray:
+            return np.c_[2.0 * th[1] / g * _bounce_dsums(th[0], n), 2.0 / g * _bounce_sums(th[0], n), np.ones(n)]
+
+        span = float(tt[-1] - tt[0])
+        fz = analyse(res_z, [nu, g * T1 / 2.0, t0], ["nu", "zeta1", "t0"],
+                     ([1e-3, 1e-9, float(tt[0]) - span], [1.0, 5.0 * g * span, float(tt[0]) + span]), sigma, jac_z)
+        return dataclasses.replace(fz, estimates=(fb.estimates[0], *fz.estimates[1:]))
+    if origin != "first":
+        raise ValueError(f"origin must be 'first' or 'fitted', got {origin!r}")
+    if sigma is not None:
+        raise ValueError("sigma is taken only with origin='fitted'")
     T = np.diff(t)
     nu0 = float(np.clip(np.median(T[1:] / T[:-1]), 0.05, 0.99))
     j = np.arange(T.size)
@@ -609,3 +640,244 @@ def fit_times(t: np.ndarray, *, g: float) -> FitResult:
         return np.c_[dnu, dz]
 
     return least_squares_fit(res, [nu0, g * T[0] / 2], ["nu", "zeta1"], ([1e-3, 1e-6], [1.0, 100.0]), jac=jac)
+
+
+# ---- §III n°9, the acoustic method with the origin unknown: a ball bouncing in place ---------------------------
+BOUNCE_NU_GRID = np.linspace(0.01, 1.0, 496)  # the start grid of ν for ``fit_bounces`` (profile of the linear part)
+
+
+def _bounce_sums(nu: np.ndarray | float, n: int) -> np.ndarray:
+    """S_i = 1 + ν + … + ν^(i−1) = (1 − ν^i)/(1 − ν) for i = 0 … n − 1 (S_0 = 0), vectorised over ν (last axis i);
+    summed rather than divided so that ν → 1 is exact."""
+    nu_ = np.asarray(nu, dtype=float)[..., None]
+    return np.concatenate([np.zeros((*nu_.shape[:-1], 1)), np.cumsum(nu_ ** np.arange(n - 1), axis=-1)], axis=-1)
+
+
+def _bounce_dsums(nu: float, n: int) -> np.ndarray:
+    """dS_i/dν = Σ_{j<i} j ν^(j−1)."""
+    j = np.arange(n - 1)
+    return np.concatenate([[0.0], np.cumsum(j * nu ** np.maximum(j - 1, 0))])
+
+
+def _bounce_profile(t: np.ndarray, nu: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For each ν: the residual sum of squares with (t0, T1) solved exactly (the instants are linear in them),
+    and that T1 and t0 (variable projection)."""
+    S = _bounce_sums(nu, t.size)
+    Sc = S - S.mean(axis=-1, keepdims=True)
+    tc = t - t.mean()
+    ss = np.maximum(np.einsum("...i,...i->...", Sc, Sc), 1e-300)
+    st = Sc @ tc
+    T1 = st / ss
+    return tc @ tc - st * T1, T1, t.mean() - T1 * S.mean(axis=-1)
+
+
+def _profile_set(grid: np.ndarray, prof: np.ndarray, level: float, refine: Callable[[float], float], best: float,
+                 lo: float, hi: float) -> tuple[float, float]:
+    """The hull [a, b] of {θ : prof(θ) ≤ level} from a grid of the profile and its optimum ``best``: each end
+    found by root finding on the profile ``refine`` between the outermost point inside (a grid point or ``best``)
+    and the next grid point outside (or the bound, where the set reaches it)."""
+    inside = np.nonzero(prof <= level)[0]
+
+    def end(a: float, b: float) -> float:  # a inside, b beyond: where the profile crosses the level
+        if refine(b) <= level:
+            return b
+        return float(optimize.brentq(lambda v: refine(v) - level, a, b, xtol=1e-13, rtol=1e-11))
+
+    left = min(float(grid[inside[0]]), best) if inside.size else best
+    right = max(float(grid[inside[-1]]), best) if inside.size else best
+    below, above = grid[grid < left], grid[grid > right]
+    return (end(left, float(below[-1]) if below.size else lo), end(right, float(above[0]) if above.size else hi))
+
+
+def _profile_level(rss_min: float, dof: int, sigma: float | None) -> float | None:
+    """The profile-likelihood threshold of a 95 % interval on one parameter: RSS ≤ RSS_min + σ² z² with σ given,
+    RSS ≤ RSS_min (1 + t²/dof) with σ estimated (the F(1, dof) test, exact for a model linear in the others)."""
+    if sigma is not None:
+        return rss_min + sigma**2 * float(special.ndtri(0.975)) ** 2
+    if dof <= 0:
+        return None
+    return rss_min * (1.0 + float(special.stdtrit(dof, 0.975)) ** 2 / dof)
+
+
+def fit_bounces(t: np.ndarray, *, g: float = 9.80665, h0: float | None = None, sigma: float | None = None,
+                interval: str = "profile") -> FitResult:
+    """Fit (ν, T1, t0) to the instants of the impacts of a ball bouncing in place (an audio recording's clicks),
+    the origin unknown: t_i = t0 + T1 (1 − ν^i)/(1 − ν), i = 0 … n − 1.
+
+    §III n°8–9: each impact returns the normal velocity times ν (ζ_{i+1} = ν ζ_i), and a flight lasts 2ζ/g, so
+    flight i lasts T1 ν^i; t0 is the true instant of the first click, fitted like the rest, not taken as exact
+    (``fit_times`` measures from the first instant, whose jitter then enters every residual). ``sigma``: the
+    constant timing jitter (s), given, or estimated from the residuals with n − 3 degrees of freedom (Student t).
+
+    With ``h0`` (m), the ball released at rest from that height above its first impact, it arrives at √(2 g h0)
+    and leaves at ν√(2 g h0), so T1 = 2ν √(2 h0/g): g = 8 ν² h0/T1² is determined, and the parameters are then
+    (ν, g, t0) (a reparametrisation: the same optimum and the same ν). The uncertainty of h0 is not included
+    (it adds a relative σ_h0/h0 to g's).
+
+    ``interval="profile"`` (default): the 95 % interval of ν is the profile-likelihood set (the instants are
+    linear in t0 and T1, solved exactly for each ν), {ν : RSS(ν) ≤ RSS_min(1 + t²/dof)}, or RSS_min + σ²z² with
+    σ given; its hull is reported, refined by root finding. ``"wald"``: ± q·stderr from the Jacobian. The other
+    parameters' intervals are Wald's. Needs at least 4 instants (3 with ``sigma``).
+    """
+    t = np.asarray(t, dtype=float)
+    n = t.size
+    if n < 3 or np.any(np.diff(t) <= 0):
+        raise ValueError("expected at least 3 strictly increasing impact instants")
+    if interval not in ("profile", "wald"):
+        raise ValueError(f"interval must be 'profile' or 'wald', got {interval!r}")
+    span = float(t[-1] - t[0])
+    rss, T1g, t0g = _bounce_profile(t, BOUNCE_NU_GRID)
+    ok = T1g > 0
+    i = int(np.argmin(np.where(ok, rss, np.inf)))
+    lo = [1e-3, 1e-9, float(t[0]) - span]
+    hi = [1.0, 10.0 * span, float(t[0]) + span]
+
+    def res(th: np.ndarray) -> np.ndarray:
+        return th[2] + th[1] * _bounce_sums(th[0], n) - t
+
+    def jac(th: np.ndarray) -> np.ndarray:
+        return np.c_[th[1] * _bounce_dsums(th[0], n), _bounce_sums(th[0], n), np.ones(n)]
+
+    fit = least_squares_fit(res, [BOUNCE_NU_GRID[i], T1g[i], t0g[i]], ["nu", "T1", "t0"], (lo, hi), sigma, jac)
+    if h0 is not None:
+        if not h0 > 0:
+            raise ValueError(f"h0 must be a drop height > 0 (m), got {h0!r}")
+        nu, T1, t0 = fit.point
+        c = 2.0 * math.sqrt(2.0 * h0)  # T1 = c ν/√g
+
+        def res_g(th: np.ndarray) -> np.ndarray:
+            return th[2] + c * th[0] / math.sqrt(th[1]) * _bounce_sums(th[0], n) - t
+
+        def jac_g(th: np.ndarray) -> np.ndarray:
+            T = c * th[0] / math.sqrt(th[1])
+            S = _bounce_sums(th[0], n)
+            return np.c_[T * _bounce_dsums(th[0], n) + c / math.sqrt(th[1]) * S, -T / (2 * th[1]) * S, np.ones(n)]
+
+        fit = analyse(res_g, [nu, 8.0 * nu**2 * h0 / T1**2, t0], ["nu", "g", "t0"],
+                      ([lo[0], 1e-3, lo[2]], [hi[0], 1e4, hi[2]]), sigma, jac_g)
+    if interval == "wald":
+        return fit
+    def profile(v: float) -> float:
+        return float(_bounce_profile(t, np.array([v]))[0][0])
+
+    level = _profile_level(profile(fit.point[0]), fit.dof, sigma)
+    if level is None:
+        return fit
+    e = fit.estimates[0]
+    ci = _profile_set(BOUNCE_NU_GRID, np.where(ok, rss, np.inf), level, profile, e.value, lo[0], hi[0])
+    est = dataclasses.replace(e, ci95=ci, clipped=ci[0] <= lo[0] or ci[1] >= hi[0])
+    return dataclasses.replace(fit, estimates=(est, *fit.estimates[1:]))
+
+
+def synthetic_bounces(rng: np.random.Generator, n: int, *, nu: float, h0: float, jitter: float,
+                      g: float = 9.80665, t_start: float = 0.0) -> dict[str, np.ndarray]:
+    """Columns of a synthetic recording of n clicks (§III n°9): a ball released at rest from h0 (m) at t_start (s),
+    first impact after √(2 h0/g), flights 2ν^(i+1)√(2 h0/g), each instant jittered by N(0, jitter²) (s).
+    Returns ``i`` (the impact's index, from 0) and ``t`` (s)."""
+    T1 = 2.0 * nu * math.sqrt(2.0 * h0 / g)
+    t = t_start + math.sqrt(2.0 * h0 / g) + T1 * _bounce_sums(nu, n)
+    return {"i": np.arange(n), "t": t + jitter * rng.standard_normal(n)}
+
+
+# ---- §III n°9–10, imprint positions with the origin unknown and a profile-likelihood interval of ν ---------------
+IMPRINT_GRID_NU = np.linspace(0.02, 1.0, 491)
+IMPRINT_GRID_CELLS = 4_000_000  # bound on (ν, u) grid points × imprints (memory of the cached shapes)
+
+
+@functools.lru_cache(maxsize=8)
+def _imprint_grid(k: float, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The u grid and the centred unit-A imprint shapes (0, P_0, P_0 + P_1, …) on the (ν, u) grid of
+    ``fit_imprints``. u spans [0, 1/(1 + k)]: beyond it the slip stops at the first impact whatever ν, and every
+    u gives the same ranges (``plane.ricochet_ranges_spinless``)."""
+    nu_count = IMPRINT_GRID_NU.size
+    u_g = np.linspace(0.0, 1.0 / (1.0 + k), int(np.clip(IMPRINT_GRID_CELLS // (nu_count * (n + 1)), 41, 401)))
+    shape = _imprint_shapes(IMPRINT_GRID_NU[:, None], u_g[None, :], k, n)
+    shape.flags.writeable = False
+    return u_g, shape
+
+
+def _imprint_shapes(nu: np.ndarray, u: np.ndarray, k: float, n: int) -> np.ndarray:
+    """Centred unit-A imprint positions (0, P_0, …, P_0 + … + P_{n−1}) minus their mean, over broadcast ν, u."""
+    nu_, u_ = np.broadcast_arrays(np.asarray(nu, dtype=float), np.asarray(u, dtype=float))
+    s = plane.ricochet_ranges_spinless(nu_, 1.0, u_, k, n).cumsum(axis=-1)
+    s = np.concatenate([np.zeros((*s.shape[:-1], 1)), s], axis=-1)
+    return s - s.mean(axis=-1, keepdims=True)
+
+
+def _profiled_rss(shape: np.ndarray, xc: np.ndarray) -> np.ndarray:
+    """RSS with A and the origin x0 solved exactly (positions are linear in both); +inf where A ≤ 0."""
+    sx = shape @ xc
+    ss = np.maximum(np.einsum("...j,...j->...", shape, shape), 1e-300)
+    return np.where(sx > 0, xc @ xc - sx * sx / ss, np.inf)
+
+
+def fit_imprints(x: np.ndarray, *, k: float, sigma: float | None = None, interval: str = "profile") -> FitResult:
+    """Fit (ν, A, u, x0) of the spinless ricochet closed form (§III n°9, ``plane.ricochet_ranges_spinless``) to
+    imprint positions x_0 … x_n, the origin x0 fitted: x_i = x0 + P_0 + … + P_{i−1} (i = 0 … n).
+
+    ``fit_positions`` measures from the first imprint, takes it as exact, and reports Wald intervals; with a
+    kink where the slip stops (the model is not smooth in u and ν there) those cover ν only ~83 % of the time for
+    8 imprints. Here the 95 % interval of ν is, by default, the profile-likelihood set: for each ν, A and x0 are
+    solved exactly and u is minimised over a grid then polished; {ν : RSS(ν) ≤ RSS_min(1 + t²/dof)} (σ estimated
+    from the residuals, dof = n + 1 − 4) or RSS_min + σ²z² (``sigma`` given, m), its hull reported.
+    ``interval="wald"`` gives ± q·stderr. The other parameters' intervals are Wald's.
+    """
+    x = np.asarray(x, dtype=float)
+    n = x.size - 1
+    if n < 3:
+        raise ValueError("expected at least 4 imprints")
+    if interval not in ("profile", "wald"):
+        raise ValueError(f"interval must be 'profile' or 'wald', got {interval!r}")
+    u_g, shape = _imprint_grid(float(k), n)
+    xc = x - x.mean()
+    rss = _profiled_rss(shape, xc)
+    prof_u = np.argmin(rss, axis=1)
+    prof = rss[np.arange(rss.shape[0]), prof_u]
+    i = int(np.argmin(prof))
+    s_best = shape[i, prof_u[i]]
+    A0 = float(s_best @ xc / (s_best @ s_best))
+    x00 = float(x.mean() + A0 * s_best[0])  # x0 = mean(x) − A·mean(s) and s_0 = 0, s centred: mean(s) = −s_best[0]
+    span = float(x[-1] - x[0]) + 1.0
+
+    def res(th: np.ndarray) -> np.ndarray:
+        P = plane.ricochet_ranges_spinless(th[0], th[1], th[2], k, n)
+        return th[3] + np.concatenate([[0.0], np.cumsum(P)]) - x
+
+    def jac(th: np.ndarray) -> np.ndarray:
+        return np.c_[np.r_[np.zeros((1, 3)), _positions_jac(th[:3], k, n)], np.ones(n + 1)]
+
+    fit = least_squares_fit(res, [IMPRINT_GRID_NU[i], A0, u_g[prof_u[i]], x00], ["nu", "A", "u", "x0"],
+                            ([1e-3, 1e-6, 0.0, float(x[0]) - span], [1.0, 100.0, 5.0, float(x[0]) + span]), sigma, jac)
+    if interval == "wald":
+        return fit
+
+    def profile(v: float) -> float:
+        r = _profiled_rss(_imprint_shapes(v, u_g, k, n), xc)
+        j = int(np.argmin(r))
+        a, b = u_g[max(j - 1, 0)], u_g[min(j + 1, u_g.size - 1)]
+        if not np.isfinite(r[j]) or a == b:
+            return float(r[j])
+        sol = optimize.minimize_scalar(lambda w: float(_profiled_rss(_imprint_shapes(v, w, k, n), xc)),
+                                       bounds=(a, b), method="bounded", options={"xatol": 1e-12})
+        return float(min(sol.fun, r[j]))
+
+    rss_min = min(profile(fit.point[0]), float(np.sum(res(np.asarray(fit.point)) ** 2)))
+    level = _profile_level(rss_min, fit.dof, sigma)
+    if level is None:
+        return fit
+    e = fit.estimates[0]
+    ci = _profile_set(IMPRINT_GRID_NU, prof, level, profile, e.value, 1e-3, 1.0)
+    est = dataclasses.replace(e, ci95=ci, clipped=ci[0] <= 1e-3 or ci[1] >= 1.0)
+    return dataclasses.replace(fit, estimates=(est, *fit.estimates[1:]))
+
+
+def synthetic_imprints(rng: np.random.Generator, n: int, *, nu: float, f: float, a0: float, alpha0: float,
+                       R: float, k: float, g: float, sigma_x: float, sigma_t: float,
+                       p0: float = 0.0) -> dict[str, np.ndarray]:
+    """Columns of a synthetic ricochet series (§III n°9, ``plane.ricochet``): n imprints ``x`` (m) and their
+    instants ``t`` (s), each jittered by N(0, σ²) and given from the first measured imprint, as a CSV of
+    ``series.read_imprints`` holds them. (a0, α0, p0): the ball arriving at the first impact."""
+    r = plane.ricochet(a0, alpha0, p0, R=R, k=k, f=f, nu=nu, g=g, n=n - 1)
+    x = r.imprints[:n] + sigma_x * rng.standard_normal(n)
+    t = np.concatenate([[0.0], np.cumsum(r.times)])[:n] + sigma_t * rng.standard_normal(n)
+    return {"x": x - x[0], "t": t - t[0]}

@@ -1,0 +1,132 @@
+"""Coverage of the §III ricochet fits' 95 % intervals: over many deterministic seeds, the fraction of reported
+intervals that hold the generating value must lie in [0.92, 0.98] (a binomial band: at 300 seeds and a true 95 %
+its standard deviation is 1.3 %, so the band is about ±2.3 σ; an interval that undercovers by 5 % fails).
+
+(a) ν from the clicks of a ball bouncing in place (``fit_bounces``, origin unknown), σ estimated and σ given;
+    g from the same clicks and the drop height;
+(b) ν from 8 imprint positions (``fit_imprints``: origin fitted, profile-likelihood interval);
+(c) f from positions + instants (``fit_physical``): its Wald interval undercovers (strict xfail, measured);
+(d) ν acoustic from ``fit_times(origin="fitted")``.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from reproductions import fitting
+
+SEEDS = 300
+BAND = (0.92, 0.98)
+G = 9.80665
+R, K = 0.0305, 2.5  # the ivory ball of configs/roze-ricochets.yaml
+
+
+def _covers(est: fitting.Estimate, value: float) -> bool:
+    lo, hi = est.ci95
+    return lo is not None and hi is not None and lo <= value <= hi
+
+
+def _bounce_case(seed: int) -> tuple[int, float, float, float]:
+    """6–15 clicks, ν in [0.5, 0.9], jitter 0.5–2 ms, dropped from 0.2–1 m; a draw is kept only if its last flight
+    lasts at least 5 jitters (a recording's clicks are in order and distinct: 15 clicks at ν = 0.5 are not)."""
+    rng = np.random.default_rng([20250, seed])
+    while True:
+        n, nu = int(rng.integers(6, 16)), rng.uniform(0.5, 0.9)
+        jitter, h0 = rng.uniform(0.5e-3, 2e-3), rng.uniform(0.2, 1.0)
+        if 2 * nu * math.sqrt(2 * h0 / G) * nu ** (n - 2) >= 5 * jitter:
+            return n, nu, jitter, h0
+
+
+def _bounces(seed: int) -> tuple[np.ndarray, float, float, float]:
+    n, nu, jitter, h0 = _bounce_case(seed)
+    rng = np.random.default_rng([20251, seed])
+    t = fitting.synthetic_bounces(rng, n, nu=nu, h0=h0, jitter=jitter, t_start=rng.uniform(0.0, 2.0))["t"]
+    return t, nu, jitter, h0
+
+
+def _ricochet(seed: int) -> tuple[dict, dict[str, np.ndarray]]:
+    """8 imprints of the ivory ball thrown without spin: ν in [0.5, 0.9], f in [0.1, 0.35], a0 1.5–2.5 m/s,
+    α0 15–30°, σx 0.3–1 mm, σt 0.1–0.5 ms."""
+    rng = np.random.default_rng([20252, seed])
+    p = {"nu": rng.uniform(0.5, 0.9), "f": rng.uniform(0.1, 0.35), "a0": rng.uniform(1.5, 2.5),
+         "alpha0": math.radians(rng.uniform(15.0, 30.0)), "sigma_x": rng.uniform(0.3e-3, 1e-3),
+         "sigma_t": rng.uniform(0.1e-3, 0.5e-3)}
+    return p, fitting.synthetic_imprints(rng, 8, R=R, k=K, g=G, **p)
+
+
+def _in_band(hits: list[bool]) -> float:
+    frac = float(np.mean(hits))
+    assert len(hits) >= SEEDS
+    assert BAND[0] <= frac <= BAND[1], f"coverage {frac:.3f} over {len(hits)} seeds, outside {BAND}"
+    return frac
+
+
+@pytest.mark.parametrize("given", [False, True], ids=["sigma-estimated", "sigma-given"])
+def test_bounces_nu_interval_covers_95_percent(given):
+    hits = []
+    for seed in range(SEEDS):
+        t, nu, jitter, _ = _bounces(seed)
+        fit = fitting.fit_bounces(t, sigma=jitter if given else None)
+        assert fit.noise == ("given sigma" if given else "estimated from residuals")
+        hits.append(_covers(fit.estimate("nu"), nu))
+    _in_band(hits)
+
+
+def test_bounces_with_drop_height_give_g_and_the_same_nu():
+    hits_g, hits_nu = [], []
+    for seed in range(SEEDS):
+        t, nu, _, h0 = _bounces(seed)
+        fit = fitting.fit_bounces(t, g=G, h0=h0)
+        if seed < 5:  # a reparametrisation: the same ν and interval as without h0, and T1 = 2ν√(2h0/g)
+            plain = fitting.fit_bounces(t)
+            assert fit.estimate("nu").ci95 == pytest.approx(plain.estimate("nu").ci95, rel=1e-9)
+            nu_h, g_h, _ = fit.point
+            assert plain.point[1] == pytest.approx(2 * nu_h * math.sqrt(2 * h0 / g_h), rel=1e-9)
+        hits_g.append(_covers(fit.estimate("g"), G))
+        hits_nu.append(_covers(fit.estimate("nu"), nu))
+    _in_band(hits_g)
+    _in_band(hits_nu)
+
+
+def test_bounces_recover_the_origin_and_flights_without_noise():
+    t = fitting.synthetic_bounces(np.random.default_rng(0), 9, nu=0.8, h0=0.5, jitter=0.0, t_start=1.25)["t"]
+    fit = fitting.fit_bounces(t, sigma=1e-6)
+    nu, T1, t0 = fit.point
+    assert nu == pytest.approx(0.8, abs=1e-9)
+    assert T1 == pytest.approx(2 * 0.8 * math.sqrt(2 * 0.5 / G), rel=1e-9)
+    assert t0 == pytest.approx(1.25 + math.sqrt(2 * 0.5 / G), abs=1e-9)
+
+
+def test_imprints_nu_interval_covers_95_percent():
+    """With the profile-likelihood interval; on the same seeds ``fit_positions``' Wald interval undercovers."""
+    hits, hits_old = [], []
+    for seed in range(SEEDS):
+        p, cols = _ricochet(seed)
+        hits.append(_covers(fitting.fit_imprints(cols["x"], k=K).estimate("nu"), p["nu"]))
+        hits_old.append(_covers(fitting.fit_positions(cols["x"], k=K).estimate("nu"), p["nu"]))
+    _in_band(hits)
+    assert np.mean(hits_old) < BAND[0]
+
+
+def test_times_fitted_origin_nu_interval_covers_95_percent():
+    hits = []
+    for seed in range(SEEDS):
+        p, cols = _ricochet(seed)
+        fit = fitting.fit_times(cols["t"], g=G, origin="fitted")
+        assert fit.names == ("nu", "zeta1", "t0")
+        hits.append(_covers(fit.estimate("nu"), p["nu"]))
+    _in_band(hits)
+
+
+@pytest.mark.xfail(strict=True, reason="fit_physical's Wald interval of f undercovers (~64-81 %): the slip's stop "
+                                       "makes the model kinked in f; a profile-likelihood interval is not done yet")
+def test_physical_f_interval_covers_95_percent():
+    hits = []
+    for seed in range(SEEDS):
+        p, cols = _ricochet(seed)
+        x, t = cols["x"], cols["t"]
+        e = fitting.fit_physical(x, t, fitting.fit_positions(x, k=K), R=R, k=K, g=G).estimate("f")
+        if e.identifiable:
+            hits.append(_covers(e, p["f"]))
+    _in_band(hits)
