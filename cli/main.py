@@ -270,36 +270,237 @@ def _fits_table(fits: list[dict[str, Any]], title: str) -> Table:
     return f
 
 
-@app.command()
-def fit(
-    kind: Annotated[str, typer.Argument(help="rebound (V0,V1 | h0,h1), pendulum (V0,V1,V1p[,M,Mp]), ricochet (x[,t])")],
-    csv_file: Annotated[Path, typer.Argument(help="your measurements, a CSV file with a header")],
-    M: Annotated[float, typer.Option("--M", help="pendulum: striking mass (kg), if not a column")] = 0.6,
-    Mp: Annotated[float, typer.Option("--Mp", help="pendulum: struck mass (kg), if not a column")] = 0.2,
-    R: Annotated[float, typer.Option("--R", help="ricochet: ball radius (m)")] = 0.0305,
-    sigma: Annotated[float | None, typer.Option(help="known std. dev. of each measurement")] = None,
-    as_json: Annotated[bool, typer.Option("--json", help="print one JSON object")] = False,
-) -> None:
-    """Fit ε or ν, with standard errors, 95 % intervals and what the data determine, from your own CSV."""
-    from reproductions.userfit import fit_csv
+# ---- resal fit <kind> ----------------------------------------------------------------------------------------
+class _FitGroup(typer.core.TyperGroup):
+    """`resal fit <kind>`: an unknown kind gets our one-line message, not click's usage screen."""
 
+    def resolve_command(self, ctx: Any, args: list[str]) -> Any:
+        from reproductions.fitkinds import KINDS
+
+        if args and not args[0].startswith("-") and args[0] not in KINDS:
+            _fail(InputError(f"kind '{args[0]}'", f"expected one of {', '.join(KINDS)}"))
+        return super().resolve_command(ctx, args)
+
+
+class _FitCommand(typer.core.TyperCommand):
+    """`resal fit <kind>`: an option that this kind does not take gets one line saying so and what it takes."""
+
+    def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
+        given = list(args)  # click consumes the list
+        try:
+            return super().parse_args(ctx, args)
+        except Exception as exc:  # click's NoSuchOption (typer vendors click in recent versions: matched by name)
+            if type(exc).__name__ != "NoSuchOption":
+                raise
+            takes = ", ".join(sorted(o for p in self.params for o in p.opts if o.startswith("--") and o != "--help"))
+            why = ("not used by the ricochet fit, which estimates the noise of positions and instants from their "
+                   "residuals: leave it out" if self.name == "ricochet" and exc.option_name == "--sigma" else
+                   f"not an option of `resal fit {self.name}`")
+            where = exc.option_name
+            at = given.index(where) if where in given else -1
+            if 0 <= at < len(given) - 1 and not given[at + 1].startswith("--"):
+                where = f"{where} {given[at + 1]}"
+            _fail(InputError(where, f"{why} (it takes {takes})"))
+
+
+fit_app = typer.Typer(cls=_FitGroup, no_args_is_help=True, rich_markup_mode=None,
+                      help="Fit the paper's coefficients to your own measurements (a CSV file): `resal fit <kind> "
+                           "data.csv`; `resal fit <kind> --help` gives that kind's columns and an example.")
+app.add_typer(fit_app, name="fit")
+
+MAX_RESAMPLES = 100_000
+_NOISES = ("auto", "constant", "proportional")
+
+
+def _positive(name: str, what: str) -> Callable[[str], float]:
+    def parse(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            v = math.nan
+        if not (math.isfinite(v) and v > 0):
+            _fail(InputError(f"{name} {text}", f"expected a positive number ({what}, finite)"))
+        return v
+    return parse
+
+
+def _choice(name: str, choices: tuple[str, ...]) -> Callable[[str], str]:
+    def parse(text: str) -> str:
+        if text not in choices:
+            _fail(InputError(f"{name} {text}", f"expected one of {', '.join(choices)}"))
+        return text
+    return parse
+
+
+def _fit_options() -> dict[str, tuple[Any, Any]]:
+    """Every option a kind may take: name → (annotation, default)."""
+    return {
+        "sigma": (Annotated[float | None, typer.Option(
+            "--sigma", parser=_positive("--sigma", "a standard deviation"),
+            help="known standard deviation of each measured outcome (V1, h1, V1p…), in the data's own unit as the "
+                 "header gives it (V1_cmps: cm/s; no unit: SI)")], None),
+        "noise": (Annotated[str, typer.Option(
+            "--noise", parser=_choice("--noise", _NOISES),
+            help="how the outcome scatters: constant, proportional (to the impact), or auto (the likelier of the "
+                 "two, by the data)")], "auto"),
+        "speeds": (Annotated[str | None, typer.Option(
+            "--speeds", parser=_choice("--speeds", ("signed", "unsigned")),
+            help="read V0,V1 as signed velocities (V1 ≤ 0, the default) or as unsigned speeds")], None),
+        "g": (Annotated[float, typer.Option("--g", parser=_positive("--g", "gravity in m/s²"),
+                                            help="gravity (m/s²)")], 9.80665),
+        "M": (Annotated[float | None, typer.Option("--M", parser=_positive("--M", "a mass in kg"),
+                                                   help="striking mass (kg), if not a column")], None),
+        "Mp": (Annotated[float | None, typer.Option("--Mp", parser=_positive("--Mp", "a mass in kg"),
+                                                    help="struck mass (kg), if not a column")], None),
+        "R": (Annotated[float, typer.Option("--R", parser=_radius, help="ball radius (m)")], 0.0305),
+        "k": (Annotated[float, typer.Option("--k", parser=_positive("--k", "MR²/I, 2.5 for a solid ball"),
+                                            help="MR²/I of the ball (2.5: homogeneous sphere)")], 2.5),
+        "h0": (Annotated[float | None, typer.Option("--h0", parser=_positive("--h0", "a height in m"),
+                                                    help="drop height (m), released at rest: then g is fitted too")],
+               None),
+        "sigma_speed": (Annotated[float | None, typer.Option(
+            "--sigma-speed", parser=_positive("--sigma-speed", "a relative standard deviation"),
+            help="ball-ball: known relative standard deviation of the measured speeds (0.02 = 2 %)")], None),
+        "sigma_dir": (Annotated[float | None, typer.Option(
+            "--sigma-dir", parser=_positive("--sigma-dir", "a standard deviation of an angle"),
+            help="ball-ball: known standard deviation of the measured directions, in their column's unit")], None),
+        "bootstrap": (Annotated[int, typer.Option(
+            "--bootstrap", parser=_count("--bootstrap", 0, MAX_RESAMPLES, "a number of resamples"),
+            help="bootstrap resamples, each refitted (0: none)")], 1000),
+    }
+
+
+def _radius(text: str) -> float:
     try:
-        for name, value, what in (("--M", M, "a mass in kg"), ("--Mp", Mp, "a mass in kg"),
-                                  ("--sigma", sigma, "a standard deviation")):
-            if value is not None and not (math.isfinite(value) and value > 0):
-                raise InputError(f"{name} {value:g}", f"expected a positive number ({what}, finite)")
-        if not (math.isfinite(R) and 0 < R <= MAX_RADIUS):
-            raise InputError(f"--R {R:g}", f"expected a ball radius in metres, in (0, {MAX_RADIUS:g}]")
-        result = fit_csv(kind, csv_file, M=M, Mp=Mp, R=R, sigma=sigma)
+        v = float(text)
+    except ValueError:
+        v = math.nan
+    if not (math.isfinite(v) and 0 < v <= MAX_RADIUS):
+        _fail(InputError(f"--R {text}", f"expected a ball radius in metres, in (0, {MAX_RADIUS:g}]"))
+    return v
+
+
+def _fit_command(name: str) -> None:
+    """Register `resal fit <name>`, with the options its kind declares."""
+    import inspect
+
+    from reproductions.fitkinds import KINDS, UNITS_HELP
+
+    kind = KINDS[name]
+    P = inspect.Parameter
+    params = [
+        P("csv_file", P.POSITIONAL_OR_KEYWORD,
+          annotation=Annotated[Path, typer.Argument(metavar="DATA.csv",
+                                                  help="your measurements, a CSV file with a header")]),
+        P("out", P.KEYWORD_ONLY, default=None, annotation=Annotated[Path | None, typer.Option(
+            "--out", parser=_out_folder, help=f"folder for fit.json, fit.md, residuals.csv and the figures "
+                                              f"(default results/fit/{name}-<file name>)")]),
+        P("as_json", P.KEYWORD_ONLY, default=False,
+          annotation=Annotated[bool, typer.Option("--json", help="print fit.json on stdout")]),
+        P("plot", P.KEYWORD_ONLY, default=True,
+          annotation=Annotated[bool, typer.Option("--plot/--no-plot", help="draw the figures (PNG and PDF)")]),
+        P("seed", P.KEYWORD_ONLY, default=0, annotation=Annotated[int, typer.Option(
+            "--seed", parser=_count("--seed", 0, 2**32 - 1, "a seed"), help="seed of the bootstrap")]),
+    ]
+    defs = _fit_options()
+    for opt in kind.options:
+        ann, default = defs[opt]
+        params.append(P(opt, P.KEYWORD_ONLY, default=default, annotation=ann))
+
+    def command(**kw: Any) -> None:
+        _run_fit(name, kw)
+
+    command.__signature__ = inspect.Signature(params)  # type: ignore[attr-defined]
+    command.__doc__ = kind.title
+    epilog = (f"Columns: {kind.columns} {UNITS_HELP} Example: resal fit {name} examples/{kind.example} "
+              "(synthetic data, labelled so).")
+    fit_app.command(name, cls=_FitCommand, help=f"{kind.title}.", epilog=epilog)(command)
+
+
+def _run_fit(name: str, kw: dict[str, Any]) -> None:
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn
+
+    from reproductions.estimation import Noise
+    from reproductions.fitreport import provenance, write_fit
+    from reproductions.userfit import FitOptions, fit_csv
+
+    csv_file: Path = kw.pop("csv_file")
+    out = kw.pop("out") or Path("results") / "fit" / f"{name}-{csv_file.stem}"
+    as_json, plot, seed = kw.pop("as_json"), kw.pop("plot"), kw.pop("seed")
+    resamples = kw.pop("bootstrap", 0)
+    noise = Noise(kw.pop("noise", "auto"))
+    try:
+        from reproductions.report import ensure_writable
+
+        ensure_writable(out.parent, "--out")
+        with Progress(TextColumn("bootstrap"), BarColumn(), MofNCompleteColumn(), console=err_console,
+                      transient=True, disable=not err_console.is_terminal or resamples == 0) as bar:
+            task = bar.add_task("bootstrap", total=resamples)
+            opts = FitOptions(noise=noise, resamples=resamples, seed=seed,
+                              progress=lambda k: bar.update(task, completed=k), **kw)
+            outcome = fit_csv(name, csv_file, opts)
+        outcome.summary["provenance"] = provenance(csv_file, opts)
+        folder = write_fit(outcome, out, plot=plot)
     except InputError as err:
         _fail(err)
+    except (ArithmeticError, ValueError) as err:
+        _fail(ComputationError(str(csv_file), f"the fit failed: {err}"))
     if as_json:
-        typer.echo(_json(result))
+        typer.echo(_json(outcome.summary))
         return
-    out_console.print(_fits_table(result["fits"], f"{kind}: {result['file']} ({result['n']} rows)"))
-    for i in result["identifiability"]:
+    _print_fit(outcome.summary, folder)
+
+
+def _print_fit(s: dict[str, Any], folder: Path) -> None:
+    t = Table(title=f"resal fit {s['kind']}: {s['file']} ({s['n']} rows)", title_justify="left")
+    for h in ("parameter", "value", "std. error", "95 % interval", "bootstrap 95 %", "note"):
+        t.add_column(h, overflow="fold", max_width=50 if h == "note" else None)
+
+    def ci(c: list | None) -> str:
+        return "—" if not c or c[0] is None else f"[{c[0]:.4g}, {c[1]:.4g}]"
+
+    for f in s["fits"]:
+        t.add_row(Text(f["parameter"]), "—" if f["value"] is None else f"{f['value']:.6g}",
+                  "—" if f["stderr"] is None else f"{f['stderr']:.3g}", ci(f["ci95"]), ci(f.get("ci95_bootstrap")),
+                  Text(f["note"]))
+    out_console.print(t)
+    lines = [f"method: {m}" for m in dict.fromkeys(f["method"] for f in s["fits"])]
+    if s.get("bootstrap"):
+        b = s["bootstrap"]
+        lines.append(f"bootstrap: {b['resamples']} resamples ({b['kind']}), seed {b['seed']}, {b['failed']} failed")
+    if s.get("noise") and "chosen_by" in s["noise"]:
+        lines.append(f"noise model: {s['noise']['model']} (chosen by {s['noise']['chosen_by']})")
+    if s.get("speed_dependence"):
+        lines.append(f"speed dependence: {s['speed_dependence']['verdict']}")
+        if s["speed_dependence"].get("law"):
+            lines.append(f"law: {s['speed_dependence']['law']['text']}")
+    for p in (s.get("comparison") or {}).get("paper", []):
+        lines.append(f"paper (line {p['line']}): {p['claim']}: {p['value']:.4g}, {p['verdict']}")
+    for m in (s.get("comparison") or {}).get("today", []):
+        val = f"{m['typ']:.4g}" if m["typ"] is not None else (
+            f"{m['low']:.4g}–{m['high']:.4g}" if m["low"] is not None else "law")
+        lines.append(f"today: {m['quantity']} {val} ({m['source']}): {m['verdict']}")
+    for i in s.get("identifiability", []):
         sv = ", ".join(f"{v:.3g}" for v in i["singular_values"])
-        out_console.print(Text(f"{i['data']}: rank {i['rank']} of {len(i['parameters'])} (singular values {sv})"))
+        lines.append(f"{i['data']}: rank {i['rank']} of {len(i['parameters'])} (singular values {sv})")
+    for w in s.get("warnings", []):
+        lines.append(f"WARNING: {w}")
+    for c in s["columns"]:
+        if c["note"]:
+            lines.append(f"column {c['column']}: {c['note']}")
+    lines.append(f"wrote {folder}/")
+    for ln in lines:
+        out_console.print(Text(ln))
+
+
+def _register_fit_commands() -> None:
+    from reproductions.fitkinds import KINDS
+
+    for name in KINDS:
+        _fit_command(name)
+
+
+_register_fit_commands()
 
 
 def _known_models(models: list[str] | None) -> list[str]:

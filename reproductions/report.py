@@ -25,7 +25,7 @@ import shutil
 import signal
 import socket
 import subprocess
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import asdict
 from pathlib import Path
@@ -36,16 +36,31 @@ from .config import REASONS
 from .errors import InputError
 from .results import FigureSpec, Reproduction
 
-__all__ = ["clean_stale", "index_md", "make_staging", "paper_rows", "parse_source", "provenance", "report_pdf",
-           "row_cells", "staging_name", "summary", "today_value", "verdict_counts", "write_index",
-           "write_reproduction"]
+__all__ = [
+    "clean_stale",
+    "code_provenance",
+    "index_md",
+    "make_staging",
+    "paper_rows",
+    "parse_source",
+    "provenance",
+    "report_pdf",
+    "row_cells",
+    "staging_name",
+    "summary",
+    "today_value",
+    "verdict_counts",
+    "write_folder",
+    "write_index",
+    "write_reproduction",
+]
 
 HEADERS = ("quantity", "§ / eq.", "line", "printed", "computed", "rel. diff", "verdict", "reason", "note")
 _TEX_COLS = 8  # the LaTeX table leaves out the note
 
 
-def provenance(rep: Reproduction) -> dict[str, Any]:
-    """Version, git commit, config hash and library versions; golden comparisons ignore this block."""
+def code_provenance() -> dict[str, Any]:
+    """Version, git commit (and whether the tree was dirty), Python, numpy and scipy versions."""
     import numpy
     import scipy
 
@@ -60,9 +75,16 @@ def provenance(rep: Reproduction) -> dict[str, Any]:
             dirty = bool(status.strip())
     except (OSError, subprocess.SubprocessError):
         pass
-    return {"version": __version__, "git_commit": commit, "dirty": dirty, "config": rep.experiment.path,
-            "config_sha256": rep.experiment.sha256, "python": platform.python_version(),
-            "numpy": numpy.__version__, "scipy": scipy.__version__, "seed": rep.experiment.seed}
+    return {"version": __version__, "git_commit": commit, "dirty": dirty, "python": platform.python_version(),
+            "numpy": numpy.__version__, "scipy": scipy.__version__}
+
+
+def provenance(rep: Reproduction) -> dict[str, Any]:
+    """Version, git commit, config hash and library versions; golden comparisons ignore this block."""
+    c = code_provenance()
+    return {"version": c["version"], "git_commit": c["git_commit"], "dirty": c["dirty"], "config": rep.experiment.path,
+            "config_sha256": rep.experiment.sha256, "python": c["python"], "numpy": c["numpy"], "scipy": c["scipy"],
+            "seed": rep.experiment.seed}
 
 
 def _figure_files(rep: Reproduction) -> list[str]:
@@ -375,27 +397,34 @@ def write_reproduction(rep: Reproduction, out: Path, prov: dict[str, Any] | None
     """Write ``out/<experiment>/`` completely in a staging folder, then swap it in. ``drawn``: a folder where
     the figures were already rendered (``draw_figure``); they are moved in instead of drawn again."""
     s = summary(rep, prov if prov is not None else provenance(rep))
-    eid = rep.experiment.id
-    final = out / eid
+    files = {"summary.json": json.dumps(s, indent=2, ensure_ascii=False) + "\n", "table.md": table_md(s),
+             "table.csv": table_csv(s), "table.tex": table_tex(s)}
+    return write_folder(out / rep.experiment.id, files, rep.figures, drawn)
+
+
+def write_folder(final: Path, files: dict[str, str], figures: Sequence[FigureSpec] = (),
+                 drawn: Path | None = None) -> Path:
+    """Write the folder ``final`` whole: ``files`` (name → text) and ``figures`` (drawn here, or moved from
+    ``drawn``) go into a staging folder beside it, which is then swapped in; an error or an interruption leaves
+    what was there before."""
+    out, name = final.parent, final.name
     try:
-        stage = make_staging(out, f"{eid}.staging")
+        stage = make_staging(out, f"{name}.staging")
     except OSError as exc:
         raise InputError(f"--out {out}", f"cannot write the output folder ({exc.strerror})") from None
     old = None
     try:
-        (stage / "summary.json").write_text(json.dumps(s, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
-        (stage / "table.md").write_text(table_md(s), encoding="utf-8")
-        (stage / "table.csv").write_text(table_csv(s), encoding="utf-8")
-        (stage / "table.tex").write_text(table_tex(s), encoding="utf-8")
-        for spec in rep.figures:
+        for fname, text in files.items():
+            (stage / fname).write_text(text, encoding="utf-8")
+        for spec in figures:
             if drawn is None:
                 _draw(spec, stage)
             else:
                 for ext in ("png", "pdf"):
                     os.replace(drawn / f"{spec.name}.{ext}", stage / f"{spec.name}.{ext}")
-        with _signals_deferred():  # both renames or neither: never a missing experiment folder
+        with _signals_deferred():  # both renames or neither: never a missing folder
             if final.exists():
-                old = out / staging_name(f"{eid}.old")
+                old = out / staging_name(f"{name}.old")
                 os.replace(final, old)
             try:
                 os.replace(stage, final)

@@ -7,9 +7,11 @@ reporting layer and ``resal fit`` read these types without importing any experim
 
 from __future__ import annotations
 
+import csv
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from importlib import resources
 
 import numpy as np
 
@@ -18,8 +20,21 @@ from .fitting import Estimate, Family, FitResult
 
 __all__ = [
     "Computed", "FigureSpec", "FitRow", "Layer", "Reproduction", "Row", "TableSpec", "family_report", "fit_rows",
-    "identifiability_report", "layer",
+    "identifiability_report", "layer", "modern_table",
 ]
+
+
+def modern_table() -> list[dict[str, str | float | None]]:
+    """Today's measured values of the coefficients (``data/modern-values.csv``, with sources), numbers parsed."""
+    text = resources.files("reproductions").joinpath("data/modern-values.csv").read_text(encoding="utf-8")
+    lines = [ln for ln in text.splitlines() if ln and not ln.startswith("#")]
+    out: list[dict[str, str | float | None]] = []
+    for r in csv.DictReader(lines):
+        row: dict[str, str | float | None] = dict(r)
+        for key in ("low", "typ", "high"):
+            row[key] = float(r[key]) if r[key].strip() else None
+        out.append(row)
+    return out
 
 
 @dataclass(frozen=True)

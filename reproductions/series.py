@@ -11,8 +11,8 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["MAX_IMPRINTS", "MIN_IMPRINTS", "Series", "check_imprints", "check_pendulum_trials", "read_imprints",
-           "read_rebounds", "read_series"]
+__all__ = ["MAX_IMPRINTS", "MIN_IMPRINTS", "UNITS", "Series", "check_imprints", "check_pendulum_trials",
+           "read_imprints", "read_rebounds", "read_series", "si_unit", "unit_label"]
 
 MIN_IMPRINTS = 5  # a ricochet series: fewer imprints cannot tell ν from the launch
 MAX_IMPRINTS = 100  # Rozé counted up to 12; after 100 impacts at ν ≤ 0.8 a flight is 1e-10 of the first
@@ -21,21 +21,75 @@ MAX_SPEED = 50.0  # m/s: the fastest launch the ricochet fits admit (fitting.PHY
 MOMENTUM_SIGMAS = 5.0  # a pendulum trial is refused when it breaks momentum by more than 5 σ of the imbalance
 MOMENTUM_SLACK = 0.10  # without σ: by more than 10 % of M V0 (or V1 exceeds V1′ by more than 10 % of V0)
 
+# Units a header may carry (``V0_mps``): per dimension, the SI unit first, then each unit's factor to SI.
+UNITS: dict[str, dict[str, float]] = {
+    "length": {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 0.0254, "ft": 0.3048},
+    "speed": {"mps": 1.0, "cmps": 1e-2, "mmps": 1e-3, "kmph": 1 / 3.6, "fps": 0.3048, "ips": 0.0254},
+    "time": {"s": 1.0, "ms": 1e-3, "us": 1e-6},
+    "mass": {"kg": 1.0, "g": 1e-3},
+    "angle": {"rad": 1.0, "deg": math.pi / 180},
+    "ratio": {"1": 1.0},
+}
+UNIT_NAMES = {"mps": "m/s", "cmps": "cm/s", "mmps": "mm/s", "kmph": "km/h", "fps": "ft/s", "ips": "in/s",
+              "um": "µm", "us": "µs", "1": "1"}
+
+
+def si_unit(dim: str) -> str:
+    """The SI unit of a dimension, as people write it (m/s, not mps)."""
+    u = next(iter(UNITS[dim]))
+    return UNIT_NAMES.get(u, u)
+
+
+def unit_label(unit: str) -> str:
+    return UNIT_NAMES.get(unit, unit)
+
+
+def _parse_header(written: list[str], known: Sequence[str], dims: dict[str, str] | None,
+                  where: str) -> tuple[list[str], dict[str, str | None]]:
+    """Column names and units of a header: ``V0`` (no unit: SI) or, with ``dims``, ``V0_<unit>``."""
+    names, units = [], {}
+    for w in written:
+        base, unit = w, None
+        if dims is not None and w not in known and "_" in w and w.rsplit("_", 1)[0] in known:
+            base, unit = w.rsplit("_", 1)
+            dim = dims.get(base)
+            if dim is None:
+                raise InputError(where, f"column '{w}': '{base}' takes no unit (write '{base}')")
+            if unit not in UNITS[dim]:
+                raise InputError(where, f"column '{w}': unknown unit '{unit}' for a {dim} (expected one of "
+                                        f"{', '.join(UNITS[dim])}, e.g. '{base}_{next(iter(UNITS[dim]))}')")
+        if base in units:
+            raise InputError(where, f"column '{w}': '{base}' appears twice in the header")
+        names.append(base)
+        units[base] = unit
+    return names, units
+
+
+def _factor(dims: dict[str, str] | None, name: str, unit: str | None) -> float:
+    return 1.0 if unit is None or dims is None else UNITS[dims[name]][unit]
+
 
 class Series(dict):
     """Columns of a CSV series (name → array), with ``where`` (the file) and ``lines`` (each row's line)."""
 
     where: str
     lines: list[int]
+    units: dict[str, str | None]  # per column: the unit written in the header, None when read as SI
+    written: dict[str, str]  # per column: the header as written (``V0_mps``)
 
     def at(self, row: int) -> str:
         return f"{self.where}:{self.lines[row]}"
 
 
 def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = (), min_rows: int = 1,
-                positive: Sequence[str] = ()) -> Series:
+                positive: Sequence[str] = (), dims: dict[str, str] | None = None,
+                nonnegative: Sequence[str] = ()) -> Series:
     """A measurement series from a CSV file with a header; every bad row is reported as file:line. Lines that
-    are empty or start with ``#`` are skipped (before the header too); a UTF-8 byte-order mark is accepted."""
+    are empty or start with ``#`` are skipped (before the header too); a UTF-8 byte-order mark is accepted.
+
+    With ``dims`` (column → dimension, a key of ``UNITS``) a header may carry a unit, ``V0_mps``, ``h0_mm``,
+    ``t_ms``: the values are converted to SI and ``units`` records, per column, the unit as written (None: no
+    unit, read in SI). A unit unknown, or of another dimension, is refused at the header."""
     where = str(path)
     try:
         text = path.read_text(encoding="utf-8-sig")
@@ -47,12 +101,13 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
     if not numbered:
         raise InputError(where, f"empty series (expected a header with columns {', '.join(columns)})")
     head_line, head = numbered[0]
-    header = [h.strip() for h in next(csv.reader([head]))]
+    written = [h.strip() for h in next(csv.reader([head]))]
+    header, units = _parse_header(written, [*columns, *optional], dims, f"{where}:{head_line}")
     missing = [c for c in columns if c not in header]
     if missing:
         raise InputError(f"{where}:{head_line}", f"missing column(s) {', '.join(missing)} in the header "
                                                  f"(expected {', '.join(columns)})")
-    unknown = [h for h in header if h not in columns and h not in optional]
+    unknown = [w for h, w in zip(header, written, strict=True) if h not in columns and h not in optional]
     if unknown:
         raise InputError(f"{where}:{head_line}", f"unknown column(s) {', '.join(unknown)} "
                                                  f"(expected {', '.join([*columns, *optional])})")
@@ -61,20 +116,24 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
         cells = [c.strip() for c in next(csv.reader([ln]))]
         if len(cells) != len(header):
             raise InputError(f"{where}:{line_no}", f"expected {len(header)} values, got {len(cells)}")
-        for h, cell in zip(header, cells, strict=True):
+        for j, (h, w, cell) in enumerate(zip(header, written, cells, strict=True)):
+            col = f"column '{w}' (#{j + 1})" if len(header) > 1 else f"column '{w}'"
             try:
                 v = float(cell)
             except ValueError:
-                raise InputError(f"{where}:{line_no}", f"column '{h}': expected a number, got '{cell}'") from None
+                raise InputError(f"{where}:{line_no}", f"{col}: expected a number, got '{cell}'") from None
             if not math.isfinite(v):
-                raise InputError(f"{where}:{line_no}", f"column '{h}': expected a finite number, got '{cell}'")
+                raise InputError(f"{where}:{line_no}", f"{col}: expected a finite number, got '{cell}'")
             if h in positive and v <= 0:
-                raise InputError(f"{where}:{line_no}", f"column '{h}': expected a positive number, got '{cell}'")
-            data[h].append(v)
+                raise InputError(f"{where}:{line_no}", f"{col}: expected a positive number, got '{cell}'")
+            if h in nonnegative and v < 0:
+                raise InputError(f"{where}:{line_no}", f"{col}: expected a number ≥ 0, got '{cell}'")
+            data[h].append(v * _factor(dims, h, units[h]))
     if len(numbered) - 1 < min_rows:
         raise InputError(where, f"expected at least {min_rows} data row(s), got {len(numbered) - 1}")
     out = Series({h: np.asarray(v) for h, v in data.items()})
     out.where, out.lines = where, [n for n, _ in numbered[1:]]
+    out.units, out.written = units, dict(zip(header, written, strict=True))
     return out
 
 

@@ -7,7 +7,9 @@ ROOT = Path(__file__).resolve().parent.parent
 # lower numbers are lower layers; a module may import only from its own layer or below
 LAYERS = {
     "reproductions.errors": 0, "reproductions.mechanics": 1, "reproductions.fitting": 2, "reproductions.config": 2,
-    "reproductions.series": 2, "reproductions.results": 3, "reproductions.experiments": 4, "reproductions.api": 5,
+    "reproductions.series": 2,
+    "reproductions.estimation": 2, "reproductions.fitting_ballball": 2, "reproductions.fitkinds": 0,
+    "reproductions.fitreport": 6, "reproductions.results": 3, "reproductions.experiments": 4, "reproductions.api": 5,
     "reproductions.report": 5, "reproductions.userfit": 5, "reproductions.models": 5, "reproductions.bench": 5,
     "reproductions.stress": 5, "reproductions.golden": 6, "reproductions": 0, "cli": 7,  # the package: __version__
 }

@@ -1,6 +1,7 @@
 """``resal fit``: a user's CSV in, ε or ν with uncertainties and identifiability out."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,7 +14,9 @@ runner = CliRunner()
 
 
 def _fit(*args):
-    res = runner.invoke(app, ["fit", *map(str, args), "--json"])
+    kind, path, *rest = map(str, args)
+    res = runner.invoke(app, ["fit", kind, path, "--json", "--no-plot", "--out", str(Path(path).parent / "fit"),
+                              *rest])
     assert res.exit_code == 0, res.output
     return json.loads(res.stdout)
 
@@ -24,7 +27,7 @@ def test_rebound_heights_recover_eps(tmp_path):
     h1 = h0 * impact.velocity_ratio_from_eps(0.1) ** 2 * (1 + 0.01 * rng.standard_normal(20))
     f = tmp_path / "drops.csv"
     f.write_text("h0,h1\n" + "".join(f"{a!r},{b!r}\n" for a, b in zip(h0.tolist(), h1.tolist(), strict=True)))
-    (eps,) = _fit("rebound", f)["fits"]
+    eps = next(x for x in _fit("rebound", f)["fits"] if x["id"] == "eps")
     assert eps["ci95"][0] < 0.1 < eps["ci95"][1]
 
 
@@ -53,7 +56,7 @@ def test_ricochet_positions_and_instants(tmp_path):
 
 
 @pytest.mark.parametrize("text, args, message", [
-    ("V0,V1\n1,x\n2,-1\n", ["rebound"], "data.csv:2: column 'V1': expected a number, got 'x'"),
+    ("V0,V1\n1,x\n2,-1\n", ["rebound"], "data.csv:2: column 'V1' (#2): expected a number, got 'x'"),
     ("x\n0\n0.1\n", ["ricochet"], "at least 5 imprints"),
     ("V0,V1\n1,-0.5\n2,-1\n", ["cannon"], "kind 'cannon'"),
     ("V0,V1,V1p\n1,0.5,1.2\n", ["pendulum", "--M", "-1"], "--M -1: expected a positive number"),
@@ -64,3 +67,141 @@ def test_bad_fit_input(tmp_path, text, args, message):
     kind, *opts = args
     res = runner.invoke(app, ["fit", kind, str(f), *opts])
     assert res.exit_code == 2 and message in " ".join(res.stderr.split()) and "Traceback" not in res.output
+
+
+# ---- the kinds of `resal fit`, on the examples and on files made here ---------------------------------------------
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def _run(tmp_path, *args):
+    out = tmp_path / "out"
+    res = runner.invoke(app, ["fit", *map(str, args), "--out", str(out), "--json"])
+    assert res.exit_code == 0, res.output
+    return json.loads(res.stdout), out
+
+
+def _by_id(summary):
+    return {f["id"]: f for f in summary["fits"]}
+
+
+@pytest.mark.parametrize("kind, args, truth", [
+    ("rebound", (), {"e": 0.8}),
+    ("drop", (), {"e": 0.9}),
+    ("pendulum", (), {"pendulum.eps": 0.1, "pendulum.epsp": 0.3}),
+    ("ricochet", (), {"positions.nu": 0.75, "times.nu": 0.75}),
+    ("ball-ball", ("--R", "0.02855"), {"ball-ball.f_bb": 0.06, "ball-ball.e": 0.93}),
+])
+def test_each_example_gives_back_the_values_that_made_it(tmp_path, kind, args, truth):
+    """Within 4 standard errors (a 95 % interval misses one example in twenty: the coverage tests judge those)."""
+    s, out = _run(tmp_path, kind, EXAMPLES / f"{kind}.csv", *args)
+    fits = _by_id(s)
+    for pid, value in truth.items():
+        assert abs(fits[pid]["value"] - value) < 4 * fits[pid]["stderr"], (pid, fits[pid])
+    assert {"fit.json", "fit.md", "residuals.csv", "fit.png", "fit.pdf"} <= {p.name for p in out.iterdir()}
+    assert json.loads((out / "fit.json").read_text())["fits"] == s["fits"]
+    assert s["provenance"]["data_sha256"] and "version" in s["provenance"]
+
+
+def test_the_cushion_example_rejects_a_constant_e_and_finds_hans_law(tmp_path):
+    """The example follows Han (2005)'s e(v) = 0.39 + 0.257 v − 0.044 v²: the constant is rejected and the law found
+    agrees with Han's within its band over the speeds measured."""
+    s, _ = _run(tmp_path, "cushion", EXAMPLES / "cushion.csv")
+    sd = s["speed_dependence"]
+    assert sd["order"] == 2 and sd["law"]["v_range"] == [0.5, 3.5]
+    assert any("reject a constant e" in w for w in s["warnings"])
+    b = sd["law"]["coefficients"]
+    for v in (1.0, 2.0, 3.0):
+        assert abs(b[0] + b[1] * v + b[2] * v * v - (0.39 + 0.257 * v - 0.044 * v * v)) < 0.03
+    paper = s["comparison"]["paper"][0]
+    assert paper["value"] == 0.55 and paper["line"] == 220
+
+
+def _write(path, header, *cols):
+    rows = zip(*cols, strict=True)
+    path.write_text(header + "\n" + "".join(",".join(repr(float(v)) for v in r) + "\n" for r in rows))
+    return path
+
+
+def test_units_in_the_header_are_converted(tmp_path):
+    rng = np.random.default_rng(7)
+    h0 = rng.uniform(0.2, 1.0, 8)
+    h1 = 0.7 * h0 + rng.normal(0, 0.003, 8)
+    a, _ = _run(tmp_path / "m", "drop", _write(tmp_path / "m.csv", "h0,h1", h0, h1), "--sigma", "0.003")
+    b, _ = _run(tmp_path / "mm", "drop", _write(tmp_path / "mm.csv", "h0_mm,h1_mm", 1e3 * h0, 1e3 * h1),
+                "--sigma", "3")
+    ea, eb = _by_id(a)["e"], _by_id(b)["e"]
+    assert eb["value"] == pytest.approx(ea["value"], rel=1e-12)
+    assert eb["stderr"] == pytest.approx(ea["stderr"], rel=1e-9)  # σ = 3 mm is σ = 0.003 m, not 3 m
+    assert a["columns"][0]["note"].startswith("no unit") and b["columns"][0]["unit"] == "mm"
+
+
+def test_unsigned_speeds_said_in_the_header_or_by_option_fit_as_signed(tmp_path):
+    rng = np.random.default_rng(8)
+    u0 = rng.uniform(0.5, 3.0, 8)
+    u1 = 0.6 * u0 + rng.normal(0, 0.01, 8)
+    signed, _ = _run(tmp_path / "a", "cushion", _write(tmp_path / "s.csv", "V0,V1", u0, -u1))
+    header, _ = _run(tmp_path / "b", "cushion", _write(tmp_path / "u.csv", "u0_mps,u1_mps", u0, u1))
+    option, _ = _run(tmp_path / "c", "cushion", _write(tmp_path / "p.csv", "V0,V1", u0, u1), "--speeds",
+                     "unsigned")
+    assert _by_id(signed)["e"]["value"] == pytest.approx(0.6, abs=0.01)
+    assert _by_id(header)["e"] == _by_id(signed)["e"] == _by_id(option)["e"]
+    res = runner.invoke(app, ["fit", "cushion", str(tmp_path / "p.csv"), "--out", str(tmp_path / "d")])
+    assert res.exit_code == 2 and "--speeds unsigned" in " ".join(res.stderr.split())
+    assert not (tmp_path / "d").exists()  # nothing written
+
+
+@pytest.mark.parametrize("header, message", [
+    ("V0_mm,V1_mm", "column 'V0_mm': unknown unit 'mm' for a speed"),
+    ("V0_furlong,V1", "unknown unit 'furlong'"),
+    ("V0,V1,V2", "unknown column(s) V2"),
+])
+def test_bad_units_and_columns_are_named_at_the_header(tmp_path, header, message):
+    f = tmp_path / "data.csv"
+    f.write_text("# a comment\n" + header + "\n1,-0.5\n2,-1\n")
+    res = runner.invoke(app, ["fit", "rebound", str(f), "--out", str(tmp_path / "o")])
+    err = " ".join(res.stderr.split())
+    assert res.exit_code == 2 and f"{f}:2" in err and message in err and "Traceback" not in res.output
+    assert not (tmp_path / "o").exists()
+
+
+def test_each_kind_has_its_own_help_and_refuses_others_options(tmp_path):
+    helps = {k: " ".join(runner.invoke(app, ["fit", k, "--help"]).output.split())
+             for k in ("rebound", "drop", "pendulum", "ricochet", "ball-ball")}
+    assert "h0,h1" in helps["drop"] and "V1p" in helps["pendulum"] and "--M" in helps["pendulum"]
+    assert "--sigma " not in helps["ricochet"] and "--M " not in helps["rebound"]
+    assert "examples/ball-ball.csv" in helps["ball-ball"] and "phi_deg" in helps["ball-ball"]
+    assert len(set(helps.values())) == len(helps)
+    res = runner.invoke(app, ["fit", "drop", str(EXAMPLES / "drop.csv"), "--M", "0.2"])
+    assert res.exit_code == 2 and "--M 0.2: not an option of `resal fit drop`" in " ".join(res.stderr.split())
+
+
+def test_bootstrap_is_seeded_and_refits(tmp_path):
+    a, _ = _run(tmp_path / "a", "rebound", EXAMPLES / "rebound.csv", "--bootstrap", "300", "--seed", "5")
+    b, _ = _run(tmp_path / "b", "rebound", EXAMPLES / "rebound.csv", "--bootstrap", "300", "--seed", "5")
+    c, _ = _run(tmp_path / "c", "rebound", EXAMPLES / "rebound.csv", "--bootstrap", "300", "--seed", "6")
+    assert a["fits"] == b["fits"] and a["fits"] != c["fits"]
+    e = _by_id(a)["e"]
+    lo, hi = e["ci95_bootstrap"]
+    assert lo < e["value"] < hi and 0.3 < (hi - lo) / (e["ci95"][1] - e["ci95"][0]) < 3
+
+
+def test_no_plot_writes_no_figure_and_a_rerun_replaces_the_folder(tmp_path):
+    _run(tmp_path, "drop", EXAMPLES / "drop.csv")
+    res = runner.invoke(app, ["fit", "drop", str(EXAMPLES / "drop.csv"), "--out", str(tmp_path / "out"),
+                              "--no-plot"])
+    assert res.exit_code == 0 and "wrote" in res.stdout
+    assert not list((tmp_path / "out").glob("*.png"))
+
+
+def test_pendulum_without_masses_is_refused(tmp_path):
+    f = _write(tmp_path / "t.csv", "V0,V1,V1p", [1.0, 2.0], [0.5, 1.0], [1.5, 3.0])
+    res = runner.invoke(app, ["fit", "pendulum", str(f), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2 and "no striking mass" in " ".join(res.stderr.split())
+
+
+def test_a_given_sigma_that_understates_the_scatter_is_flagged(tmp_path):
+    rng = np.random.default_rng(9)
+    u0 = rng.uniform(0.5, 3.0, 10)
+    f = _write(tmp_path / "r.csv", "u0,u1", u0, 0.6 * u0 + rng.normal(0, 0.05, 10))
+    s, _ = _run(tmp_path, "rebound", f, "--sigma", "0.005")
+    assert s["goodness"]["reduced_chi2"] > 10 and any("scatter exceeds the given σ" in w for w in s["warnings"])

@@ -3,10 +3,8 @@ today's values. The result types themselves live in ``reproductions.results`` (r
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 from collections.abc import Sequence
-from importlib import resources
 
 from ..config import Experiment, Node, Printed
 from ..results import (
@@ -21,6 +19,7 @@ from ..results import (
     fit_rows,
     identifiability_report,
     layer,
+    modern_table,
 )
 from ..series import read_series
 
@@ -77,20 +76,14 @@ def read_ball(node: Node, with_mass: bool = False) -> tuple[float, ...]:
 
 def modern_rows(symbols: Sequence[str], values: dict[str, tuple[float, str]]) -> tuple[dict, ...]:
     """Rows of ``modern-values.csv`` for the requested symbols, beside the value resal derives."""
-    text = resources.files("reproductions").joinpath("data/modern-values.csv").read_text(encoding="utf-8")
-    lines = [ln for ln in text.splitlines() if ln and not ln.startswith("#")]
-    table = list(csv.DictReader(lines))
-
-    def num(s: str) -> float | None:
-        return float(s) if s.strip() else None
-
+    table = modern_table()
     out = []
     for sym in symbols:
         resal_value, what = values[sym]
         for r in table:
             if r["symbol"] == sym:
                 out.append({"symbol": sym, "quantity": r["quantity"], "resal": resal_value, "resal_what": what,
-                            "low": num(r["low"]), "typ": num(r["typ"]), "high": num(r["high"]),
+                            "low": r["low"], "typ": r["typ"], "high": r["high"],
                             "source": r["source"], "note": r["note"]})
     return tuple(out)
 

@@ -1,0 +1,46 @@
+"""The kinds of ``resal fit``, as data (no numpy): their columns, options and example, for the command line's
+help. ``userfit`` maps each kind to the function that fits it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["KINDS", "Kind"]
+
+
+@dataclass(frozen=True)
+class Kind:
+    name: str
+    title: str  # one line, for `resal fit --help`
+    columns: str  # the columns, for `resal fit <kind> --help`
+    example: str  # file name in examples/
+    options: tuple[str, ...]  # the options this kind takes, besides --out, --json, --plot, --seed
+
+
+_SPEEDS = ("V0,V1: signed velocities (m/s), V0 > 0 towards the obstacle and V1 ≤ 0 after it (the paper's "
+           "convention); or u0,u1: speeds, both ≥ 0 (or V0,V1 with --speeds unsigned)")
+_HEIGHTS = "h0,h1: drop and rebound heights (m), 0 ≤ h1 ≤ h0"
+UNITS_HELP = ("A header may carry a unit: V0_mps, V0_cmps, V0_kmph, h0_mm, h0_cm, t_ms, M_g, phi_deg …; a column "
+              "without one is read in SI and the output says so. Lines starting with # are comments.")
+
+KINDS: dict[str, Kind] = {k.name: k for k in (
+    Kind("rebound", "e and ε from rebounds on an immovable mass, §I eq. (9): speeds or heights",
+         f"{_SPEEDS}. Or {_HEIGHTS}.", "rebound.csv", ("sigma", "noise", "speeds", "g", "bootstrap")),
+    Kind("cushion", "e and ε from perpendicular cushion rebounds, beside Coriolis's 0.55 and today's e",
+         f"{_SPEEDS}.", "cushion.csv", ("sigma", "noise", "speeds", "bootstrap")),
+    Kind("drop", "e and ε from a ball dropped on a slab: drop and rebound heights (or speeds)",
+         f"{_HEIGHTS}; or speeds just before and after the impact ({_SPEEDS}).", "drop.csv",
+         ("sigma", "noise", "speeds", "g", "bootstrap")),
+    Kind("pendulum", "ε, ε′ and e from two-pendulum impacts, §I eqs (8); momentum checked per trial",
+         "V0,V1,V1p: signed velocities (m/s) of the striker before the impact and of striker and struck body "
+         "after it (the struck body at rest before); M,Mp: the masses (kg) per trial, or --M and --Mp for all.",
+         "pendulum.csv", ("sigma", "M", "Mp", "bootstrap")),
+    Kind("ricochet", "ν (and f where identifiable) from ricochet imprints, §III n°8-10",
+         "x: imprint positions along the plane (m), increasing; t (optional): their impact instants (s).",
+         "ricochet.csv", ("R", "k", "g")),
+    Kind("ball-ball", "ball–ball friction f and e from oblique shots, §VI n°13 then §II n°7; each shot predicted",
+         "v: the cue ball's speed before the impact (m/s, rolling); phi: the cut angle, between its velocity and "
+         "the line of centres (rad; phi_deg for degrees); cue_speed, cue_dir, obj_speed, obj_dir: each ball's speed "
+         "(m/s) and direction (rad, counter-clockwise from the cue ball's incoming direction, seen from above) once "
+         "it rolls.", "ball-ball.csv", ("R", "k", "sigma_speed", "sigma_dir")),
+)}

@@ -1,0 +1,131 @@
+"""``resal fit pendulum``: ε and ε′ (and Newton's e) from impacts of two pendulums, §I n°5 eqs (8).
+
+The struck body hangs at rest; per trial the striker's speed V0 before and both speeds V1, V1′ after (signed,
+along the striker's motion) are measured, with the masses M (striker) and M′ (struck). Eqs (8) give
+V1 = V0 − 2M′V0/D and V1′ = 2MV0/D, D = M′(1 + ε) + M(1 + ε′): with one mass ratio only D is determined (rank 1,
+reported as such); two or more mass ratios separate ε and ε′. Newton's e = (V1′ − V1)/V0 is model-free, per
+trial, and averaged per mass ratio. Every trial must keep momentum within its noise (``series``).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+from scipy import special
+
+from ..errors import InputError
+from ..estimation import bootstrap
+from ..fitting import fit_direct_impact
+from ..mechanics import impact
+from ..results import FigureSpec, layer
+from ..series import check_pendulum_trials, read_series
+from .common import (
+    FitOptions,
+    FitOutcome,
+    base_summary,
+    check_sigma,
+    columns_read,
+    estimate_row,
+    identifiability,
+    rows_from_fit,
+)
+
+DIMS = {"V0": "speed", "V1": "speed", "V1p": "speed", "M": "mass", "Mp": "mass"}
+LABELS = {"eps": "ε (striking body)", "epsp": "ε′ (struck body)"}
+
+
+def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
+    s = read_series(path, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=2, positive=("V0", "M", "Mp"),
+                    dims=DIMS)
+    n = s["V0"].size
+    for name, col, opt in (("striking", "M", opts.M), ("struck", "Mp", opts.Mp)):
+        if col not in s and opt is None:
+            raise InputError(str(path), f"no {name} mass: give a column {col} (kg, or {col}_g) or --{col} on the "
+                                        "command line")
+        if col in s and opt is not None:
+            raise InputError(f"--{col} {opt:g}", f"the file has a column {col} already: leave --{col} out")
+    M = s["M"] if "M" in s else np.full(n, float(opts.M or 0.0))
+    Mp = s["Mp"] if "Mp" in s else np.full(n, float(opts.Mp or 0.0))
+    unit = s.units.get("V1") or "mps"
+    from ..series import UNITS, unit_label
+
+    factor = UNITS["speed"][unit]
+    check_sigma(opts.sigma, [s["V0"] / factor, s["V1"] / factor, s["V1p"] / factor], unit_label(unit))
+    sigma = None if opts.sigma is None else opts.sigma * factor
+    check_pendulum_trials(s, M, Mp, sigma)  # momentum kept and bodies apart, within the noise
+    V0, V1, V1p = s["V0"], s["V1"], s["V1p"]
+    fit = fit_direct_impact(M, Mp, V0, V1, V1p, sigma)
+    rank = fit.identifiability.rank
+
+    def refit(idx: np.ndarray) -> list[float]:
+        f = fit_direct_impact(M[idx], Mp[idx], V0[idx], V1[idx], V1p[idx], sigma)
+        if f.identifiability.rank < rank:
+            raise ValueError("degenerate resample")
+        if rank == 2:
+            return list(f.point)
+        return [f.combinations[0].value]
+
+    names = ("eps", "epsp") if rank == 2 else ("combination0",)
+    boot = bootstrap(refit, lambda rng: rng.integers(0, n, n), names, opts.resamples, opts.seed,
+                     opts.progress) if opts.resamples else None
+    method = "least squares on §I eqs (8), bounds [0, 1], " + (
+        f"σ = {opts.sigma:g} {unit_label(unit)} given" if sigma is not None else "noise estimated (Student's t)")
+    fits = rows_from_fit(fit, "pendulum", LABELS, method, boot if rank == 2 else None)
+    if rank < 2 and boot is not None:
+        for r in fits:
+            if r["id"] == "pendulum.combination0":
+                r["ci95_bootstrap"] = list(boot.ci95[0])
+    # Newton's e: per trial, model-free; per mass ratio, its mean with a Student-t interval
+    e_i = (V1p - V1) / V0
+    ratio = np.round(Mp / M, 12)
+    for r in np.unique(ratio):
+        m = ratio == r
+        k = int(m.sum())
+        mean = float(e_i[m].mean())
+        if k > 1:
+            se = float(e_i[m].std(ddof=1) / math.sqrt(k))
+            q = float(special.stdtrit(k - 1, 0.975)) if sigma is None else float(special.ndtri(0.975))
+            if sigma is not None:
+                se = sigma * math.sqrt(2.0) / float(np.mean(V0[m])) / math.sqrt(k)  # σ on V1 and on V1′
+            ci: tuple[float | None, float | None] = (mean - q * se, mean + q * se)
+        else:
+            se, ci = None, (None, None)
+        fits.append(estimate_row(f"e.ratio{r:g}", f"e (Newton, M′/M = {r:.4g})", mean, se, ci,
+                                 method="mean of (V1′ − V1)/V0 per trial", note=f"{k} trial(s)"))
+    point = np.asarray(fit.point)
+    pred = impact.direct_impact(M, Mp, V0, 0.0, eps=point[0], epsp=point[1])
+    summary = base_summary(kind, path, n, columns_read(s, DIMS), opts)
+    summary["fits"] = fits
+    summary["identifiability"] = [identifiability(fit, LABELS, path.name)]
+    summary["noise"] = {"model": "given" if sigma is not None else "constant", "dof": fit.dof}
+    imbalance = M * V0 - M * V1 - Mp * V1p
+    summary["per_trial"] = [{"line": s.lines[i], "M": float(M[i]), "Mp": float(Mp[i]), "e": float(e_i[i]),
+                             "momentum_imbalance": float(imbalance[i]),
+                             "residual_V1": float(pred.V1[i] - V1[i]), "residual_V1p": float(pred.V1p[i] - V1p[i])}
+                            for i in range(n)]
+    if rank < 2:
+        summary["warnings"].append("one mass ratio: only the combination M′ε + Mε′ is determined; trials with a "
+                                   "second mass ratio separate ε and ε′")
+    summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
+                                                      "failed": boot.failed, "kind": "pairs (trials resampled)"}
+    headers = ("line", "M (kg)", "M′ (kg)", "V0 (m/s)", "V1 (m/s)", "V1′ (m/s)", "e", "M V0 − M V1 − M′ V1′ (kg·m/s)")
+    rows = tuple((s.lines[i], float(M[i]), float(Mp[i]), float(V0[i]), float(V1[i]), float(V1p[i]), float(e_i[i]),
+                  float(imbalance[i])) for i in range(n))
+    grid = np.linspace(0.0, float(V0.max()) * 1.05, 50)
+    figs = []
+    for r in np.unique(ratio):
+        m = ratio == r
+        g = impact.direct_impact(float(M[m][0]), float(Mp[m][0]), grid, 0.0, eps=point[0], epsp=point[1])
+        figs += [layer("points", V0[m], V1[m], color="C0", label=f"V1, M′/M = {r:.3g}"),
+                 layer("points", V0[m], V1p[m], color="C1", marker="s", label=f"V1′, M′/M = {r:.3g}"),
+                 layer("line", grid, g.V1, color="C0"), layer("line", grid, g.V1p, color="C1")]
+    fig = FigureSpec("fit", "resal fit pendulum: speeds after the impact, measured and fitted (§I eqs 8)",
+                     "V0 (m/s)", "velocity after the impact (m/s)", tuple(figs))
+    res = FigureSpec("residuals", "resal fit pendulum: residuals against V0", "V0 (m/s)",
+                     "predicted − measured (m/s)",
+                     (layer("points", V0, pred.V1 - V1, label="V1"),
+                      layer("points", V0, pred.V1p - V1p, color="C1", marker="s", label="V1′"),
+                      layer("line", [0.0, float(V0.max())], [0.0, 0.0], color="0.4", style=":")))
+    return FitOutcome(summary, (fig, res), headers, rows)
