@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from reproductions.fitting import synthetic_bounces
 from reproductions.fitting_ballball import synthetic_shots
 from reproductions.mechanics import impact, plane
 
@@ -66,6 +67,11 @@ def main() -> None:
                     cols["obj_dir"] * deg, strict=True)),
            "oblique shots, ball-ball friction f = 0.06, e = 0.93, radius 0.02855 m (use --R 0.02855), cue ball "
            "rolling; speeds in m/s with 2 % noise, angles in degrees with 0.5 degree noise")
+    # bounces: a ball dropped from 0.5 m at rest, nu = 0.85, 10 clicks with 1 ms jitter, in milliseconds
+    b = synthetic_bounces(rng, 10, nu=0.85, h0=0.5, jitter=1e-3, t_start=0.0)
+    _write("bounces.csv", "t_ms", [(1e3 * v,) for v in b["t"]],
+           "clicks of a ball dropped at rest from h0 = 0.5 m (use --h0 0.5), nu = 0.85, g = 9.80665 m/s^2; "
+           "instants in ms with 1 ms jitter")
 
 
 if __name__ == "__main__":

@@ -90,6 +90,7 @@ def _by_id(summary):
     ("pendulum", (), {"pendulum.eps": 0.1, "pendulum.epsp": 0.3}),
     ("ricochet", (), {"positions.nu": 0.75, "times.nu": 0.75}),
     ("ball-ball", ("--R", "0.02855"), {"ball-ball.f_bb": 0.06, "ball-ball.e": 0.93}),
+    ("bounces", ("--h0", "0.5"), {"bounces.nu": 0.85, "bounces.g": 9.80665}),
 ])
 def test_each_example_gives_back_the_values_that_made_it(tmp_path, kind, args, truth):
     """Within 4 standard errors (a 95 % interval misses one example in twenty: the coverage tests judge those)."""
@@ -205,3 +206,18 @@ def test_a_given_sigma_that_understates_the_scatter_is_flagged(tmp_path):
     f = _write(tmp_path / "r.csv", "u0,u1", u0, 0.6 * u0 + rng.normal(0, 0.05, 10))
     s, _ = _run(tmp_path, "rebound", f, "--sigma", "0.005")
     assert s["goodness"]["reduced_chi2"] > 10 and any("scatter exceeds the given σ" in w for w in s["warnings"])
+
+
+def test_bounce_instants_in_milliseconds_with_sigma_in_milliseconds(tmp_path):
+    t = np.array([0.0, 0.3194, 0.5908, 0.8215, 1.0176, 1.1843, 1.3260, 1.4464])
+    a, _ = _run(tmp_path / "s", "bounces", _write(tmp_path / "s.csv", "t", t), "--sigma", "0.001")
+    b, _ = _run(tmp_path / "ms", "bounces", _write(tmp_path / "ms.csv", "t_ms", 1e3 * t), "--sigma", "1")
+    na, nb = _by_id(a)["bounces.nu"], _by_id(b)["bounces.nu"]
+    assert nb["value"] == pytest.approx(na["value"], rel=1e-9) and nb["ci95"] == pytest.approx(na["ci95"], rel=1e-6)
+    assert 0.0 < na["ci95"][0] < na["value"] < na["ci95"][1] < 1.0
+
+
+def test_ricochet_f_carries_its_measured_undercoverage(tmp_path):
+    s, _ = _run(tmp_path, "ricochet", EXAMPLES / "ricochet.csv")
+    f = _by_id(s)["joint-physical.f"]
+    assert "76 %" in f["note"] and "indicative" in f["note"]

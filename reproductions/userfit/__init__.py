@@ -17,14 +17,14 @@ from .ballball import fit_ballball
 from .common import FitOptions, FitOutcome
 from .pendulum import fit_pendulum
 from .rebound import fit_rebounds
-from .ricochet import fit_ricochet
+from .ricochet import fit_clicks, fit_ricochet
 
 __all__ = ["FITTERS", "KINDS", "FitOptions", "FitOutcome", "Kind", "fit_csv"]
 
 
 FITTERS: dict[str, Callable[[str, Path, FitOptions], FitOutcome]] = {
     "rebound": fit_rebounds, "cushion": fit_rebounds, "drop": fit_rebounds, "pendulum": fit_pendulum,
-    "ricochet": fit_ricochet, "ball-ball": fit_ballball,
+    "ricochet": fit_ricochet, "bounces": fit_clicks, "ball-ball": fit_ballball,
 }
 
 

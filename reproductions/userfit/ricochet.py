@@ -1,4 +1,10 @@
-"""``resal fit ricochet``: ν (and f where identifiable) from imprint positions and instants, §III n°8-10."""
+"""``resal fit ricochet`` and ``resal fit bounces``: ν (and f, g where identifiable), §III n°8-10.
+
+Ricochet: imprint positions (and optionally impact instants) of a ball skipping along a plane; both origins are
+fitted (``fitting.fit_imprints``, ``fit_times(origin="fitted")``), and ν's interval is the profile likelihood's.
+Bounces: the impact instants of a ball bouncing in place (an audio recording's clicks), the origin fitted
+(``fitting.fit_bounces``); with the drop height, g as well.
+"""
 
 from __future__ import annotations
 
@@ -7,12 +13,25 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..fitting import fit_physical, fit_positions, fit_times
+from ..fitting import fit_bounces, fit_imprints, fit_physical, fit_positions, fit_times
 from ..results import FigureSpec, layer
 from ..series import check_imprints, read_series
-from .common import FitOptions, FitOutcome, base_summary, columns_read, identifiability, rows_from_fit
+from .common import (
+    FitOptions,
+    FitOutcome,
+    base_summary,
+    check_sigma,
+    columns_read,
+    identifiability,
+    rows_from_fit,
+    today,
+)
 
 DIMS = {"x": "length", "t": "time"}
+# measured over 300 seeded series of 8 imprints with instants (tests/test_fit_coverage_ricochet.py, a strict xfail)
+F_CAVEAT = ("WARNING: this interval of f is Wald's and covers the true f in only about 76 % of synthetic series "
+            "(the model has a kink where the slip stops): read it as indicative, not as a 95 % interval")
+MIN_CLICKS = 5  # three parameters and two degrees of freedom for the noise
 
 
 def fit_ricochet(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
@@ -24,18 +43,23 @@ def fit_ricochet(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     check_imprints(x, str(path), t, s.lines)
     x = x - x[0]
     t = None if t is None else t - t[0]
-    fx = fit_positions(x, k=opts.k)
-    labels = {"nu": "ν", "A": "A = 2a0² sin α0 cos α0/g (m)", "u": "f tan α0"}
-    fits = rows_from_fit(fx, "positions", labels, "least squares on imprint positions (§III, spinless)",
-                         units={"A": "m"})
-    ident = [identifiability(fx, labels, f"{path.name}: positions")]
+    fi = fit_imprints(x, k=opts.k)
+    labels = {"nu": "ν", "A": "A = 2a0² sin α0 cos α0/g (m)", "u": "f tan α0", "x0": "x0, the first imprint (m)"}
+    fits = rows_from_fit(fi, "positions", labels, "least squares on imprint positions (§III, spinless), origin "
+                         "fitted; ν's interval: profile likelihood", units={"A": "m", "x0": "m"})
+    ident = [identifiability(fi, labels, f"{path.name}: positions")]
     if t is not None:
-        ft = fit_times(t, g=opts.g)
-        fits += rows_from_fit(ft, "times", {"nu": "ν (acoustic)", "zeta1": "ζ1 (m/s)"},
-                              "least squares on impact instants", units={"zeta1": "m/s"})
+        ft = fit_times(t, g=opts.g, origin="fitted")
+        fits += rows_from_fit(ft, "times", {"nu": "ν (acoustic)", "zeta1": "ζ1 (m/s)", "t0": "t0 (s)"},
+                              "least squares on impact instants, origin fitted; ν's interval: profile likelihood",
+                              units={"zeta1": "m/s", "t0": "s"})
+        fx = fit_positions(x, k=opts.k)  # the start of the joint fit of the physical parameters
         fj = fit_physical(x, t, fx, R=opts.R, k=opts.k, g=opts.g)
         fits += rows_from_fit(fj, "joint-physical", {"f": "f (positions + instants)"},
                               "least squares, physical parameters", only=("f",))
+        for r in fits:
+            if r["id"] == "joint-physical.f" and r["value"] is not None:
+                r["note"] = "; ".join(t_ for t_ in (r["note"], F_CAVEAT) if t_)
         ident.append(identifiability(fj, {"nu": "ν", "f": "f", "a0": "a0", "alpha0": "α0"},
                                      f"{path.name}: positions and instants"))
     summary = base_summary(kind, path, x.size, columns_read(s, DIMS), opts)
@@ -47,3 +71,36 @@ def fit_ricochet(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                      (layer("points", nrange, x, label="measured"),))
     return FitOutcome(summary, (fig,), ("line", "x (m)") + (("t (s)",) if t is not None else ()),
                       tuple((s.lines[i], float(x[i]), *(() if t is None else (float(t[i]),))) for i in range(x.size)))
+
+
+def fit_clicks(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
+    s = read_series(path, ("t",), min_rows=MIN_CLICKS, dims={"t": "time"})
+    t = s["t"]
+    bad = np.nonzero(np.diff(t) <= 0)[0]
+    if bad.size:
+        raise InputError(s.at(int(bad[0]) + 1), f"column '{s.written['t']}': impact instants must increase; "
+                                                f"{t[bad[0] + 1]:g} s is not after {t[bad[0]]:g} s")
+    unit = s.units.get("t") or "s"
+    from ..series import UNITS, unit_label
+
+    factor = UNITS["time"][unit]
+    check_sigma(opts.sigma, [t / factor - t[0] / factor], unit_label(unit))
+    sigma = None if opts.sigma is None else opts.sigma * factor
+    fb = fit_bounces(t - t[0], g=opts.g, h0=opts.h0, sigma=sigma)
+    labels = {"nu": "ν (normal-velocity yield = e)", "T1": "T1, the first flight (s)", "t0": "t0, first click (s)",
+              "g": "g (m/s²)"}
+    method = "least squares on impact instants, origin fitted; ν's interval: profile likelihood; " + (
+        f"σ = {opts.sigma:g} {unit_label(unit)} given" if sigma is not None else "jitter estimated (Student's t)")
+    fits = rows_from_fit(fb, "bounces", labels, method, units={"T1": "s", "t0": "s", "g": "m/s²"})
+    nu = next(r for r in fits if r["id"] == "bounces.nu")
+    summary = base_summary(kind, path, t.size, columns_read(s, {"t": "time"}), opts)
+    summary["fits"] = fits
+    summary["identifiability"] = [identifiability(fb, labels, path.name)]
+    summary["bootstrap"] = None
+    if nu["value"] is not None:
+        summary["comparison"] = {"paper": [], "today": today(("e_t",), tuple(nu["ci95"]), "ν")}
+    flights = np.diff(t)
+    k = np.arange(flights.size)
+    figs = (FigureSpec("fit", "resal fit bounces: flight durations", "flight number", "duration (s)",
+                       (layer("points", k, flights, label="measured"),)),)
+    return FitOutcome(summary, figs, ("line", "t (s)"), tuple((s.lines[i], float(t[i])) for i in range(t.size)))
