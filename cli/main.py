@@ -308,7 +308,6 @@ fit_app = typer.Typer(cls=_FitGroup, no_args_is_help=True, rich_markup_mode=None
                            "data.csv`; `resal fit <kind> --help` gives that kind's columns and an example.")
 app.add_typer(fit_app, name="fit")
 
-MAX_RESAMPLES = 100_000
 _NOISES = ("auto", "constant", "proportional")
 
 
@@ -334,6 +333,8 @@ def _choice(name: str, choices: tuple[str, ...]) -> Callable[[str], str]:
 
 def _fit_options() -> dict[str, tuple[Any, Any]]:
     """Every option a kind may take: name → (annotation, default)."""
+    from reproductions import fitkinds
+
     return {
         "sigma": (Annotated[float | None, typer.Option(
             "--sigma", parser=_positive("--sigma", "a standard deviation"),
@@ -365,7 +366,7 @@ def _fit_options() -> dict[str, tuple[Any, Any]]:
             "--sigma-dir", parser=_positive("--sigma-dir", "a standard deviation of an angle"),
             help="ball-ball: known standard deviation of the measured directions, in their column's unit")], None),
         "bootstrap": (Annotated[int, typer.Option(
-            "--bootstrap", parser=_count("--bootstrap", 0, MAX_RESAMPLES, "a number of resamples"),
+            "--bootstrap", parser=_count("--bootstrap", 0, fitkinds.MAX_RESAMPLES, "a number of resamples"),
             help="bootstrap resamples, each refitted (0: none)")], 1000),
     }
 
@@ -467,7 +468,8 @@ def _print_fit(s: dict[str, Any], folder: Path) -> None:
     lines = [f"method: {m}" for m in dict.fromkeys(f["method"] for f in s["fits"])]
     if s.get("bootstrap"):
         b = s["bootstrap"]
-        lines.append(f"bootstrap: {b['resamples']} resamples ({b['kind']}), seed {b['seed']}, {b['failed']} failed")
+        lines.append(f"bootstrap: {b['resamples']} resamples ({b['kind']}), seed {b['seed']}, {b['failed']} failed: "
+                     f"{b['note']}")
     if s.get("noise") and "chosen_by" in s["noise"]:
         lines.append(f"noise model: {s['noise']['model']} (chosen by {s['noise']['chosen_by']})")
     if s.get("speed_dependence"):

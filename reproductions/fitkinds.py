@@ -5,7 +5,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["KINDS", "Kind"]
+__all__ = ["KINDS", "MAX_RESAMPLES", "Kind"]
+
+MAX_RESAMPLES = 100_000  # a bound on --bootstrap: a typo cannot make a fit run for hours
 
 
 @dataclass(frozen=True)

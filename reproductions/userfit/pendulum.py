@@ -22,6 +22,8 @@ from ..mechanics import impact
 from ..results import FigureSpec, layer
 from ..series import check_pendulum_trials, read_series
 from .common import (
+    BOOT_NOTE,
+    MIN_BOOT_TRIALS,
     FitOptions,
     FitOutcome,
     base_summary,
@@ -37,7 +39,7 @@ LABELS = {"eps": "ε (striking body)", "epsp": "ε′ (struck body)"}
 
 
 def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
-    s = read_series(path, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=2, positive=("V0", "M", "Mp"),
+    s = read_series(path, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=1, positive=("V0", "M", "Mp"),
                     dims=DIMS)
     n = s["V0"].size
     for name, col, opt in (("striking", "M", opts.M), ("struck", "Mp", opts.Mp)):
@@ -69,7 +71,7 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
 
     names = ("eps", "epsp") if rank == 2 else ("combination0",)
     boot = bootstrap(refit, lambda rng: rng.integers(0, n, n), names, opts.resamples, opts.seed,
-                     opts.progress) if opts.resamples else None
+                     opts.progress) if opts.resamples and n >= MIN_BOOT_TRIALS else None
     method = "least squares on §I eqs (8), bounds [0, 1], " + (
         f"σ = {opts.sigma:g} {unit_label(unit)} given" if sigma is not None else "noise estimated (Student's t)")
     fits = rows_from_fit(fit, "pendulum", LABELS, method, boot if rank == 2 else None)
@@ -109,7 +111,8 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         summary["warnings"].append("one mass ratio: only the combination M′ε + Mε′ is determined; trials with a "
                                    "second mass ratio separate ε and ε′")
     summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
-                                                      "failed": boot.failed, "kind": "pairs (trials resampled)"}
+                                                      "failed": boot.failed, "kind": "pairs (trials resampled)",
+                                                      "note": BOOT_NOTE}
     headers = ("line", "M (kg)", "M′ (kg)", "V0 (m/s)", "V1 (m/s)", "V1′ (m/s)", "e", "M V0 − M V1 − M′ V1′ (kg·m/s)")
     rows = tuple((s.lines[i], float(M[i]), float(Mp[i]), float(V0[i]), float(V1[i]), float(V1p[i]), float(e_i[i]),
                   float(imbalance[i])) for i in range(n))

@@ -20,7 +20,18 @@ from ..estimation import Noise, bootstrap, fit_ratio, select_law, transform_inte
 from ..mechanics import impact
 from ..results import FigureSpec, layer
 from ..series import Series, read_series, unit_label
-from .common import FitOptions, FitOutcome, base_summary, check_sigma, columns_read, estimate_row, paper_value, today
+from .common import (
+    BOOT_NOTE,
+    MIN_BOOT_TRIALS,
+    FitOptions,
+    FitOutcome,
+    base_summary,
+    check_sigma,
+    columns_read,
+    estimate_row,
+    paper_value,
+    today,
+)
 
 BOUND_TOL = 1e-12  # e this close to 0 or 1 sits on the bound of its admissible range
 DIMS = {"V0": "speed", "V1": "speed", "u0": "speed", "u1": "speed", "h0": "length", "h1": "length"}
@@ -123,7 +134,7 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         return [ee, float(impact.eps_from_newton(ee))]
 
     boot = bootstrap(refit, lambda rng: rng.integers(0, n, n), ("e", "eps"), opts.resamples, opts.seed,
-                     opts.progress) if opts.resamples else None
+                     opts.progress) if opts.resamples and n >= MIN_BOOT_TRIALS else None
     at_bound = "upper" if e >= 1.0 - BOUND_TOL else ("lower" if e <= BOUND_TOL else None)  # of e; ε's is the other
     eps_bound = {"upper": "lower", "lower": "upper", None: None}[at_bound]
     method = f"weighted least squares on §I eq. (9), {_noise_label(fr.noise, opts.sigma, unit_text, heights)}"
@@ -164,7 +175,8 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                              "residual": fr.residuals[i]} for i in range(n)]
     summary["comparison"] = _comparisons(kind, heights, e, e_ci, law, v)
     summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
-                                                      "failed": boot.failed, "kind": "pairs (trials resampled)"}
+                                                      "failed": boot.failed, "kind": "pairs (trials resampled)",
+                                                      "note": BOOT_NOTE}
     rows = tuple((s.lines[i], float(x[i]), float(y[i]), float(v[i]), float(e_i[i]), fr.residuals[i]) for i in range(n))
     headers = ("line", "h0 (m)" if heights else "V0 (m/s)", "h1 (m)" if heights else "|V1| (m/s)",
                "impact speed (m/s)", "e", "residual (m)" if heights else "residual (m/s)")
