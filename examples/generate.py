@@ -72,6 +72,15 @@ def main() -> None:
     _write("bounces.csv", "t_ms", [(1e3 * v,) for v in b["t"]],
            "clicks of a ball dropped at rest from h0 = 0.5 m (use --h0 0.5), nu = 0.85, g = 9.80665 m/s^2; "
            "instants in ms with 1 ms jitter")
+    # pendulum heights: eps = 0.1, eps' = 0.3; a light striker on a heavy bob (it swings back) and the reverse
+    M, Mp = np.repeat([0.6, 0.2], 5), np.repeat([0.2, 0.6], 5)
+    h0 = np.round(rng.uniform(0.1, 0.3, 10), 4)
+    r = impact.direct_impact(M, Mp, np.sqrt(2 * 9.80665 * h0), 0.0, eps=0.1, epsp=0.3)
+    h1, h1p = (v**2 / (2 * 9.80665) + rng.normal(0, 5e-4, 10) for v in (r.V1, r.V1p))
+    _write("pendulum-heights.csv", "h0_mm,h1_mm,h1p_mm,M_g,Mp_g",
+           list(zip(1e3 * h0, 1e3 * np.abs(h1), 1e3 * np.abs(h1p), 1e3 * M, 1e3 * Mp, strict=True)),
+           "two pendulums, eps = 0.1, eps' = 0.3; release and rise heights in mm with noise sd 0.5 mm; in the "
+           "last five trials the 200 g striker swings back off the 600 g bob")
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ qᵢ against the impact speed v: nested orders are compared by an F test (χ² d
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -28,8 +29,10 @@ from typing import Any
 import numpy as np
 from scipy import special, stats
 
+from .fitting import FitResult
+
 __all__ = ["Bootstrap", "Noise", "PolyLaw", "RatioFit", "bootstrap", "fit_ratio", "poly_law", "select_law",
-           "transform_interval"]
+           "transform_interval", "with_estimated_scale"]
 
 # AUTO takes the constant model only when it is the likelier by a factor e³ ≈ 20: a wrong CONSTANT (the scatter
 # does grow with speed) gives intervals that cover 84–90 % with 8 trials, while a wrong PROPORTIONAL (the mean of the
@@ -263,3 +266,26 @@ def bootstrap(refit: Callable[[Any], Sequence[float]], draw: Callable[[np.random
     lo, hi = np.percentile(arr, [2.5, 97.5], axis=0)
     return Bootstrap(tuple(names), resamples, seed, tuple(zip(map(float, lo), map(float, hi), strict=True)),
                      tuple(map(float, arr.std(axis=0, ddof=1))), failed)
+
+
+def with_estimated_scale(fit: FitResult, weighted_rss: float, lo: Sequence[float], hi: Sequence[float]) -> FitResult:
+    """A fit made with relative standard deviations (known up to one common factor, given as if absolute), reported
+    with that factor estimated from its weighted residuals: s² = RSS_w/dof, standard errors × s, Student's t with
+    the fit's degrees of freedom, intervals cut at [lo, hi]."""
+    if fit.dof <= 0:
+        raise ValueError("no degree of freedom left to estimate the noise")
+    s = math.sqrt(weighted_rss / fit.dof)
+    q = float(special.stdtrit(fit.dof, 0.975))
+    est = []
+    for e, a, b in zip(fit.estimates, lo, hi, strict=True):
+        if e.stderr is None or e.value is None:
+            est.append(e)
+            continue
+        se = e.stderr * s
+        ci = (max(e.value - q * se, a), min(e.value + q * se, b))
+        est.append(dataclasses.replace(e, stderr=se, ci95=ci, clipped=ci != (e.value - q * se, e.value + q * se)))
+    combos = [dataclasses.replace(c, stderr=None if c.stderr is None else c.stderr * s,
+                                  ci95=(None, None) if c.stderr is None else
+                                  (c.value - q * c.stderr * s, c.value + q * c.stderr * s)) for c in fit.combinations]
+    return dataclasses.replace(fit, estimates=tuple(est), combinations=tuple(combos),
+                               noise="estimated from residuals (relative weights given)")

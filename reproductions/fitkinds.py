@@ -35,8 +35,10 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
          ("sigma", "noise", "speeds", "g", "bootstrap")),
     Kind("pendulum", "ε, ε′ and e from two-pendulum impacts, §I eqs (8); momentum checked per trial",
          "V0,V1,V1p: signed velocities (m/s) of the striker before the impact and of striker and struck body "
-         "after it (the struck body at rest before); M,Mp: the masses (kg) per trial, or --M and --Mp for all.",
-         "pendulum.csv", ("sigma", "M", "Mp", "bootstrap")),
+         "after it (the struck body at rest before); or h0,h1,h1p: the striker's release height and the rise heights "
+         "of both bodies after the impact (m; the speeds at the bottom are √(2gh), and the striker's direction after "
+         "the impact is taken from momentum, said per trial); M,Mp: the masses (kg) per trial, or --M and --Mp.",
+         "pendulum.csv", ("sigma", "M", "Mp", "g", "bootstrap")),
     Kind("ricochet", "ν (and f where identifiable) from ricochet imprints, §III n°8-10",
          "x: imprint positions along the plane (m), increasing; t (optional): their impact instants (s).",
          "ricochet.csv", ("R", "k", "g")),

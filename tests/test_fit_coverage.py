@@ -16,6 +16,7 @@ from reproductions.estimation import Noise, fit_ratio, select_law
 from reproductions.fitting import fit_direct_impact
 from reproductions.mechanics import impact
 from reproductions.userfit import FitOptions
+from reproductions.userfit.pendulum import fit_pendulum
 from reproductions.userfit.rebound import fit_rebounds
 
 BAND = (0.92, 0.98)
@@ -121,5 +122,31 @@ def test_pendulum_intervals_cover(sigma) -> None:
         fit = fit_direct_impact(M, Mp, V0, r.V1 + 0.005 * rng.standard_normal(10),
                                 r.V1p + 0.005 * rng.standard_normal(10), sigma)
         hits += [_cover(fit.estimate(n).ci95, v) for n, v in (("eps", 0.1), ("epsp", 0.3))]
+    cov = hits / seeds
+    assert np.all((BAND[0] <= cov) & (cov <= BAND[1])), cov
+
+
+@pytest.mark.parametrize("sigma_mm", [None, 0.5])
+def test_pendulum_heights_intervals_cover(tmp_path, sigma_mm) -> None:
+    """Release and rise heights (mm), σ on each height given in mm or estimated; one mass ratio sends the striker
+    back (its direction is then taken from momentum). The heights' noise is carried to the speeds by dV/dh = g/V."""
+    g = 9.80665
+    M = np.repeat([0.6, 0.2], 5)
+    Mp = np.repeat([0.2, 0.6], 5)
+    hits = np.zeros(2)
+    seeds = 400
+    for seed in range(seeds):
+        rng = np.random.default_rng(50_000 + seed)
+        h0 = rng.uniform(0.1, 0.3, 10)
+        r = impact.direct_impact(M, Mp, np.sqrt(2 * g * h0), 0.0, eps=0.1, epsp=0.3)
+        noisy = [h + 0.0005 * rng.standard_normal(10) for h in (h0, r.V1**2 / (2 * g), r.V1p**2 / (2 * g))]
+        f = tmp_path / "heights.csv"
+        f.write_text("h0_mm,h1_mm,h1p_mm,M,Mp\n" + "".join(
+            ",".join(repr(float(v)) for v in row) + "\n"
+            for row in zip(*(1e3 * np.abs(h) for h in noisy), M, Mp, strict=True)))
+        out = fit_pendulum("pendulum", f, FitOptions(sigma=sigma_mm, resamples=0))
+        est = {x["id"]: x for x in out.summary["fits"]}
+        hits += [_cover(tuple(est[k]["ci95"]), v) for k, v in (("pendulum.eps", 0.1), ("pendulum.epsp", 0.3))]
+        assert sum(t["striker_back"] for t in out.summary["per_trial"]) == 5
     cov = hits / seeds
     assert np.all((BAND[0] <= cov) & (cov <= BAND[1])), cov

@@ -221,3 +221,12 @@ def test_ricochet_f_carries_its_measured_undercoverage(tmp_path):
     s, _ = _run(tmp_path, "ricochet", EXAMPLES / "ricochet.csv")
     f = _by_id(s)["joint-physical.f"]
     assert "76 %" in f["note"] and "indicative" in f["note"]
+
+
+def test_pendulum_heights_example_takes_the_striker_back_from_momentum(tmp_path):
+    s, _ = _run(tmp_path, "pendulum", EXAMPLES / "pendulum-heights.csv", "--sigma", "0.5")
+    fits = _by_id(s)
+    for pid, value in (("pendulum.eps", 0.1), ("pendulum.epsp", 0.3)):
+        assert abs(fits[pid]["value"] - value) < 4 * fits[pid]["stderr"], fits[pid]
+    assert [t["striker_back"] for t in s["per_trial"]] == [False] * 5 + [True] * 5
+    assert any("moving back" in w for w in s["warnings"])

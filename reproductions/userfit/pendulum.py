@@ -16,8 +16,8 @@ import numpy as np
 from scipy import special
 
 from ..errors import InputError
-from ..estimation import bootstrap
-from ..fitting import fit_direct_impact
+from ..estimation import bootstrap, with_estimated_scale
+from ..fitting import FitResult, fit_direct_impact
 from ..mechanics import impact
 from ..results import FigureSpec, layer
 from ..series import check_pendulum_trials, read_series
@@ -38,10 +38,27 @@ DIMS = {"V0": "speed", "V1": "speed", "V1p": "speed", "M": "mass", "Mp": "mass"}
 LABELS = {"eps": "ε (striking body)", "epsp": "ε′ (struck body)"}
 
 
+DIMS_H = {"h0": "length", "h1": "length", "h1p": "length", "M": "mass", "Mp": "mass"}
+
+
+def _heights(path: Path) -> bool:
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError):
+        return False  # read_series says what is wrong with the file
+    head = next((ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")), "")
+    return "h0" in {h.strip().split("_")[0] for h in head.split(",")}
+
+
 def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
-    s = read_series(path, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=1, positive=("V0", "M", "Mp"),
-                    dims=DIMS)
-    n = s["V0"].size
+    heights = _heights(path)
+    if heights:
+        s = read_series(path, ("h0", "h1", "h1p"), optional=("M", "Mp"), min_rows=1, positive=("h0", "M", "Mp"),
+                        nonnegative=("h1", "h1p"), dims=DIMS_H)
+    else:
+        s = read_series(path, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=1, positive=("V0", "M", "Mp"),
+                        dims=DIMS)
+    n = len(s.lines)
     for name, col, opt in (("striking", "M", opts.M), ("struck", "Mp", opts.Mp)):
         if col not in s and opt is None:
             raise InputError(str(path), f"no {name} mass: give a column {col} (kg, or {col}_g) or --{col} on the "
@@ -50,19 +67,47 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
             raise InputError(f"--{col} {opt:g}", f"the file has a column {col} already: leave --{col} out")
     M = s["M"] if "M" in s else np.full(n, float(opts.M or 0.0))
     Mp = s["Mp"] if "Mp" in s else np.full(n, float(opts.Mp or 0.0))
-    unit = s.units.get("V1") or "mps"
-    from ..series import UNITS, unit_label
+    from ..series import UNITS, Series, unit_label
 
-    factor = UNITS["speed"][unit]
-    check_sigma(opts.sigma, [s["V0"] / factor, s["V1"] / factor, s["V1p"] / factor], unit_label(unit))
-    sigma = None if opts.sigma is None else opts.sigma * factor
-    check_pendulum_trials(s, M, Mp, sigma)  # momentum kept and bodies apart, within the noise
-    V0, V1, V1p = s["V0"], s["V1"], s["V1p"]
-    fit = fit_direct_impact(M, Mp, V0, V1, V1p, sigma)
+    out_col = "h1" if heights else "V1"
+    unit = s.units.get(out_col) or ("m" if heights else "mps")
+    factor = UNITS["length" if heights else "speed"][unit]
+    cols = ("h0", "h1", "h1p") if heights else ("V0", "V1", "V1p")
+    check_sigma(opts.sigma, [s[c] / factor for c in cols], unit_label(unit))
+    sigma_in = None if opts.sigma is None else opts.sigma * factor
+    backwards = np.zeros(n, dtype=bool)
+    res_sigma: np.ndarray | float | None = sigma_in
+    if heights:
+        # bottom speeds from the release and rise heights, V = √(2 g h) (the bob's energy, §I n°5's pendulums)
+        V0, a1, V1p = (np.sqrt(2 * opts.g * s[c]) for c in cols)
+        # a rise height gives the striker's speed, not its direction: the direction that keeps momentum better
+        back = np.abs(M * V0 + M * a1 - Mp * V1p) < np.abs(M * V0 - M * a1 - Mp * V1p)
+        backwards = back & (a1 > 0)
+        V1 = np.where(backwards, -a1, a1)
+        # a height's σ becomes a speed's by dV/dh = g/V (floored at √(2gσ) where the height is within σ of zero);
+        # the release's enters each residual through ∂V1/∂V0 = V1/V0 and ∂V1′/∂V0 = V1′/V0 (eqs 8)
+        # without σ the weights are relative (their scale is estimated): any σ far below the heights serves
+        unit_sigma = 1e-6 * float(np.max(s["h0"])) if sigma_in is None else sigma_in
+        floor = math.sqrt(2 * opts.g * unit_sigma)
+
+        def sd(v: np.ndarray) -> np.ndarray:
+            return opts.g * unit_sigma / np.maximum(np.abs(v), floor)
+
+        s0 = sd(V0)
+        res_sigma = np.concatenate([np.hypot(sd(V1), V1 / V0 * s0), np.hypot(sd(V1p), V1p / V0 * s0)])
+        speeds = Series({"V0": V0, "V1": V1, "V1p": V1p})
+        speeds.where, speeds.lines = s.where, s.lines
+        check_pendulum_trials(speeds, M, Mp, None if sigma_in is None else float(np.max(res_sigma)))
+    else:
+        V0, V1, V1p = s["V0"], s["V1"], s["V1p"]
+        check_pendulum_trials(s, M, Mp, sigma_in)  # momentum kept and bodies apart, within the noise
+    sigma = res_sigma
+    fit = _fit(M, Mp, V0, V1, V1p, sigma, heights and sigma_in is None)
     rank = fit.identifiability.rank
 
     def refit(idx: np.ndarray) -> list[float]:
-        f = fit_direct_impact(M[idx], Mp[idx], V0[idx], V1[idx], V1p[idx], sigma)
+        sig = sigma if not isinstance(sigma, np.ndarray) else np.concatenate([sigma[:n][idx], sigma[n:][idx]])
+        f = _fit(M[idx], Mp[idx], V0[idx], V1[idx], V1p[idx], sig, heights and sigma_in is None)
         if f.identifiability.rank < rank:
             raise ValueError("degenerate resample")
         if rank == 2:
@@ -73,7 +118,11 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     boot = bootstrap(refit, lambda rng: rng.integers(0, n, n), names, opts.resamples, opts.seed,
                      opts.progress) if opts.resamples and n >= MIN_BOOT_TRIALS else None
     method = "least squares on §I eqs (8), bounds [0, 1], " + (
-        f"σ = {opts.sigma:g} {unit_label(unit)} given" if sigma is not None else "noise estimated (Student's t)")
+        f"σ = {opts.sigma:g} {unit_label(unit)} on each height given" if heights and sigma_in is not None else
+        f"σ = {opts.sigma:g} {unit_label(unit)} given" if sigma_in is not None else
+        "noise estimated (Student's t)") + (
+        "; speeds at the bottom √(2gh) from the heights, each residual weighted by the height's noise carried "
+        "through (dV/dh = g/V), and the striker's direction after the impact taken from momentum" if heights else "")
     fits = rows_from_fit(fit, "pendulum", LABELS, method, boot if rank == 2 else None)
     if rank < 2 and boot is not None:
         for r in fits:
@@ -88,9 +137,9 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         mean = float(e_i[m].mean())
         if k > 1:
             se = float(e_i[m].std(ddof=1) / math.sqrt(k))
-            q = float(special.stdtrit(k - 1, 0.975)) if sigma is None else float(special.ndtri(0.975))
-            if sigma is not None:
-                se = sigma * math.sqrt(2.0) / float(np.mean(V0[m])) / math.sqrt(k)  # σ on V1 and on V1′
+            q = float(special.stdtrit(k - 1, 0.975)) if sigma_in is None or heights else float(special.ndtri(0.975))
+            if sigma_in is not None and not heights:
+                se = sigma_in * math.sqrt(2.0) / float(np.mean(V0[m])) / math.sqrt(k)  # σ on V1 and on V1′
             ci: tuple[float | None, float | None] = (mean - q * se, mean + q * se)
         else:
             se, ci = None, (None, None)
@@ -101,9 +150,14 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     summary = base_summary(kind, path, n, columns_read(s, DIMS), opts)
     summary["fits"] = fits
     summary["identifiability"] = [identifiability(fit, LABELS, path.name)]
-    summary["noise"] = {"model": "given" if sigma is not None else "constant", "dof": fit.dof}
+    summary["noise"] = {"model": "given" if sigma_in is not None else "constant", "dof": fit.dof}
     imbalance = M * V0 - M * V1 - Mp * V1p
+    if backwards.any():
+        summary["warnings"].append(f"the striker's rise heights give no direction: in {int(backwards.sum())} of {n} "
+                                   "trial(s) it was taken as moving back after the impact, the direction that keeps "
+                                   "momentum (per_trial: striker_back)")
     summary["per_trial"] = [{"line": s.lines[i], "M": float(M[i]), "Mp": float(Mp[i]), "e": float(e_i[i]),
+                             "striker_back": bool(backwards[i]),
                              "momentum_imbalance": float(imbalance[i]),
                              "residual_V1": float(pred.V1[i] - V1[i]), "residual_V1p": float(pred.V1p[i] - V1p[i])}
                             for i in range(n)]
@@ -132,3 +186,14 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                       layer("points", V0, pred.V1p - V1p, color="C1", marker="s", label="V1′"),
                       layer("line", [0.0, float(V0.max())], [0.0, 0.0], color="0.4", style=":")))
     return FitOutcome(summary, (fig, res), headers, rows)
+
+
+def _fit(M: np.ndarray, Mp: np.ndarray, V0: np.ndarray, V1: np.ndarray, V1p: np.ndarray,
+         sigma: np.ndarray | float | None, relative: bool) -> FitResult:
+    """Eqs (8) fitted; ``relative``: ``sigma`` gives only the residuals' relative sizes, their scale estimated."""
+    fit = fit_direct_impact(M, Mp, V0, V1, V1p, sigma)
+    if not relative:
+        return fit
+    pred = impact.direct_impact(M, Mp, V0, 0.0, eps=fit.point[0], epsp=fit.point[1])
+    r = np.concatenate([pred.V1 - V1, pred.V1p - V1p]) / np.asarray(sigma)
+    return with_estimated_scale(fit, float(r @ r), (0.0, 0.0), (1.0, 1.0))
