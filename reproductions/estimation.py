@@ -31,8 +31,8 @@ from scipy import special, stats
 
 from .fitting import FitResult
 
-__all__ = ["Bootstrap", "Noise", "PolyLaw", "RatioFit", "bootstrap", "fit_ratio", "poly_law", "select_law",
-           "transform_interval", "with_estimated_scale"]
+__all__ = ["Bootstrap", "Noise", "PolyLaw", "RatioFit", "bootstrap", "bootstrap_many", "fit_ratio", "poly_law",
+           "select_law", "transform_interval", "with_estimated_scale"]
 
 # AUTO takes the constant model only when it is the likelier by a factor e³ ≈ 20: a wrong CONSTANT (the scatter
 # does grow with speed) gives intervals that cover 84–90 % with 8 trials, while a wrong PROPORTIONAL (the mean of the
@@ -245,21 +245,37 @@ def bootstrap(refit: Callable[[Any], Sequence[float]], draw: Callable[[np.random
     """Draw ``resamples`` data sets with ``draw`` (a seeded generator), refit each with ``refit`` (a ValueError
     or ArithmeticError marks a degenerate draw, counted as failed), and report 2.5 / 97.5 % percentiles.
     ``progress(k)`` is called after each resample."""
+
+    def refit_many(batch: list[Any]) -> list[Sequence[float] | None]:
+        out: list[Sequence[float] | None] = []
+        for data in batch:
+            try:
+                out.append(refit(data))
+            except (ValueError, ArithmeticError):
+                out.append(None)
+        return out
+
+    return bootstrap_many(refit_many, draw, names, resamples, seed, progress, batch=1)
+
+
+def bootstrap_many(refit_many: Callable[[list[Any]], list[Sequence[float] | None]],
+                   draw: Callable[[np.random.Generator], Any], names: Sequence[str], resamples: int, seed: int,
+                   progress: Callable[[int], None] | None = None, batch: int = 50) -> Bootstrap:
+    """``bootstrap`` for a refit that takes ``batch`` data sets at once (None for a failed one): the same draws
+    from the same seed, whatever the batch."""
     rng = np.random.default_rng(seed)
-    out, failed = [], 0
-    for k in range(resamples):
-        data = draw(rng)
-        try:
-            est = np.asarray(refit(data), dtype=float)
-        except (ValueError, ArithmeticError):
-            failed += 1
-        else:
-            if np.all(np.isfinite(est)):
-                out.append(est)
+    out, failed, done = [], 0, 0
+    while done < resamples:
+        chunk = [draw(rng) for _ in range(min(batch, resamples - done))]
+        for est in refit_many(chunk):
+            e = None if est is None else np.asarray(est, dtype=float)
+            if e is not None and np.all(np.isfinite(e)):
+                out.append(e)
             else:
                 failed += 1
+        done += len(chunk)
         if progress is not None:
-            progress(k + 1)
+            progress(done)
     if len(out) < max(10, resamples // 2):
         raise ArithmeticError(f"the bootstrap refit failed on {failed} of {resamples} resamples")
     arr = np.array(out)

@@ -49,5 +49,5 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
          "v: the cue ball's speed before the impact (m/s, rolling); phi: the cut angle, between its velocity and "
          "the line of centres (rad; phi_deg for degrees); cue_speed, cue_dir, obj_speed, obj_dir: each ball's speed "
          "(m/s) and direction (rad, counter-clockwise from the cue ball's incoming direction, seen from above) once "
-         "it rolls.", "ball-ball.csv", ("R", "k", "sigma_speed", "sigma_dir")),
+         "it rolls.", "ball-ball.csv", ("R", "k", "sigma_speed", "sigma_dir", "bootstrap")),
 )}

@@ -230,3 +230,26 @@ def test_pendulum_heights_example_takes_the_striker_back_from_momentum(tmp_path)
         assert abs(fits[pid]["value"] - value) < 4 * fits[pid]["stderr"], fits[pid]
     assert [t["striker_back"] for t in s["per_trial"]] == [False] * 5 + [True] * 5
     assert any("moving back" in w for w in s["warnings"])
+
+
+@pytest.mark.parametrize("kind, args", [("drop", {}), ("ball-ball", {"R": 0.02855})])
+def test_the_bootstrap_reports_its_progress_and_batches_change_nothing(kind, args):
+    """Progress after every resample (one at a time) or every batch (ball-ball's batched refits), up to the total;
+    and the batched bootstrap draws what the one-at-a-time one would."""
+    from reproductions.estimation import bootstrap, bootstrap_many
+    from reproductions.userfit import FitOptions, fit_csv
+
+    seen: list[int] = []
+    fit_csv(kind, EXAMPLES / f"{kind}.csv", FitOptions(resamples=120, seed=3, progress=seen.append, **args))
+    assert seen[-1] == 120 and seen == sorted(seen) and len(seen) >= 3
+    x = np.arange(1.0, 9.0)
+
+    def mean(idx):
+        return [float(x[idx].mean())]
+
+    def draw(rng):
+        return rng.integers(0, 8, 8)
+
+    one = bootstrap(mean, draw, ("m",), 200, 7)
+    many = bootstrap_many(lambda b: [mean(i) for i in b], draw, ("m",), 200, 7, batch=64)
+    assert one == many

@@ -15,10 +15,21 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..fitting_ballball import fit_shots, predict_shots, shot_residuals
+from ..estimation import bootstrap_many
+from ..fitting_ballball import fit_many, fit_shots, predict_shots, shot_residuals
 from ..results import FigureSpec, layer
 from ..series import UNITS, read_series
-from .common import FitOptions, FitOutcome, base_summary, columns_read, identifiability, rows_from_fit, today
+from .common import (
+    BOOT_NOTE,
+    MIN_BOOT_TRIALS,
+    FitOptions,
+    FitOutcome,
+    base_summary,
+    columns_read,
+    identifiability,
+    rows_from_fit,
+    today,
+)
 
 DIMS = {"v": "speed", "phi": "angle", "cue_speed": "speed", "cue_dir": "angle", "obj_speed": "speed",
         "obj_dir": "angle"}
@@ -46,7 +57,15 @@ def fit_ballball(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     labels = {k: LABELS[v_] for k, v_ in names.items()}
     method = "least squares on post-slip speeds and directions: §VI n°13 impact, then §II n°7 slide" + (
         "; σ given" if sig_dir is not None else "; a noise level per kind of measurement, estimated (Student's t)")
-    fits = rows_from_fit(fit, "ball-ball", labels, method)
+    def refit_many(batch: list[np.ndarray]) -> list[list[float] | None]:
+        sets = [dict(zip(("v", "phi", "cue_speed", "cue_dir", "obj_speed", "obj_dir"), (c[idx] for c in cols),
+                         strict=True)) for idx in batch]
+        return [list(f.point) if f.identifiability.rank == 2 else None
+                for f in fit_many(sets, R=opts.R, k=opts.k, sigma_speed=opts.sigma_speed, sigma_dir=sig_dir)]
+
+    boot = bootstrap_many(refit_many, lambda rng: rng.integers(0, n, n), fit.names, opts.resamples, opts.seed,
+                          opts.progress) if opts.resamples and n >= MIN_BOOT_TRIALS else None
+    fits = rows_from_fit(fit, "ball-ball", labels, method, boot)
     point = fit.point
     pred = predict_shots(v, phi, f_bb=point[0], e=point[1], R=opts.R, k=opts.k)
     res = shot_residuals((point[0], point[1]), *cols, R=opts.R, k=opts.k)
@@ -79,7 +98,9 @@ def fit_ballball(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     if e_row["value"] is not None:
         comp["today"] += today(("e_bb",), tuple(e_row["ci95"]), "e")
     summary["comparison"] = comp
-    summary["bootstrap"] = None
+    summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
+                                                      "failed": boot.failed, "kind": "pairs (shots resampled)",
+                                                      "note": BOOT_NOTE}
     headers = ("line", "v (m/s)", "φ (rad)", "cue speed: measured", "predicted", "cue direction (rad): measured",
                "predicted", "object speed: measured", "predicted", "object direction (rad): measured", "predicted")
     rows = tuple((s.lines[i], float(v[i]), float(phi[i]), float(s["cue_speed"][i]), float(pred.cue_speed[i]),
