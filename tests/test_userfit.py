@@ -253,3 +253,12 @@ def test_the_bootstrap_reports_its_progress_and_batches_change_nothing(kind, arg
     one = bootstrap(mean, draw, ("m",), 200, 7)
     many = bootstrap_many(lambda b: [mean(i) for i in b], draw, ("m",), 200, 7, batch=64)
     assert one == many
+
+
+def test_pendulum_reduced_chi2_judges_a_given_sigma(tmp_path):
+    """The example was made with σ = 0.005 m/s: told so, χ²/dof is near 1; told half of it, near 4, and the fit
+    warns that its intervals are too narrow."""
+    right, _ = _run(tmp_path / "a", "pendulum", EXAMPLES / "pendulum.csv", "--sigma", "0.005")
+    wrong, _ = _run(tmp_path / "b", "pendulum", EXAMPLES / "pendulum.csv", "--sigma", "0.0025")
+    assert 0.3 < right["goodness"]["reduced_chi2"] < 3 and not right["warnings"]
+    assert wrong["goodness"]["reduced_chi2"] > 2.5 and any("exceeds the given σ" in w for w in wrong["warnings"])

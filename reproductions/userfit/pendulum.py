@@ -13,7 +13,7 @@ import math
 from pathlib import Path
 
 import numpy as np
-from scipy import special
+from scipy import special, stats
 
 from ..errors import InputError
 from ..estimation import bootstrap, with_estimated_scale
@@ -151,6 +151,15 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     summary["fits"] = fits
     summary["identifiability"] = [identifiability(fit, LABELS, path.name)]
     summary["noise"] = {"model": "given" if sigma_in is not None else "constant", "dof": fit.dof}
+    r_all = np.concatenate([pred.V1 - V1, pred.V1p - V1p])
+    summary["goodness"] = {"reduced_chi2": None, "chi2_p": None}
+    if sigma_in is not None and fit.dof > 0:
+        chi2 = float(np.sum((r_all / np.broadcast_to(np.asarray(sigma), r_all.shape)) ** 2))
+        p_chi2 = float(stats.chi2.sf(chi2, fit.dof))
+        summary["goodness"] = {"reduced_chi2": chi2 / fit.dof, "chi2_p": p_chi2}
+        if p_chi2 < 0.01:
+            summary["warnings"].append(f"the scatter exceeds the given σ: reduced χ² = {chi2 / fit.dof:.3g} "
+                                       f"(p = {p_chi2:.2g}); the intervals from σ are too narrow")
     imbalance = M * V0 - M * V1 - Mp * V1p
     if backwards.any():
         summary["warnings"].append(f"the striker's rise heights give no direction: in {int(backwards.sum())} of {n} "

@@ -155,6 +155,11 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         "scale_unit": ("1 (relative)" if fr.noise is Noise.PROPORTIONAL else ("m" if heights else "m/s")),
         "loglik": fr.loglik, "dof": fr.dof, "quantile": fr.quantile}
     summary["goodness"] = _goodness(fr, x, y, w=np.asarray(fr.weights))
+    # one parameter, linear in the data: determined by any trial (x > 0); the rank and the singular value say so
+    sv = math.sqrt(float(np.sum(fr.weights)))
+    summary["identifiability"] = [{"data": path.name, "parameters": ["e" if p == 1 else "e²"], "rank": 1,
+                                   "singular_values": [sv], "condition_number": 1.0, "null_directions": [],
+                                   "identified_combinations": []}]
     summary["speed_dependence"] = {
         "tests": [{"orders": [t.lower, t.higher], "test": t.test, "statistic": t.statistic, "p": t.p}
                   for t in tests],
