@@ -218,9 +218,13 @@ def test_bounce_instants_in_milliseconds_with_sigma_in_milliseconds(tmp_path):
 
 
 def test_ricochet_f_carries_its_measured_undercoverage(tmp_path):
+    """f's interval is the profile likelihood's (fitting.fit_friction), whose coverage the note gives as measured
+    (tests/test_fit_coverage_ricochet.py); the Wald warning is gone."""
     s, _ = _run(tmp_path, "ricochet", EXAMPLES / "ricochet.csv")
     f = _by_id(s)["joint-physical.f"]
-    assert "76 %" in f["note"] and "indicative" in f["note"]
+    assert "profile likelihood" in f["note"] and "93 % of 300" in f["note"]
+    assert "WARNING" not in f["note"] and "indicative" not in f["note"]
+    assert f["ci95"][0] < f["value"] < f["ci95"][1]
 
 
 def test_pendulum_heights_example_takes_the_striker_back_from_momentum(tmp_path):
