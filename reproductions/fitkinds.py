@@ -44,7 +44,7 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
          "ricochet.csv", ("R", "k", "g")),
     Kind("bounces", "ν (and g, given the drop height) from the instants of a ball bouncing in place (clicks)",
          "t: the impact instants (s; t_ms for milliseconds), increasing, at least 5; the origin need not be the "
-         "first click, it is fitted.", "bounces.csv", ("sigma", "h0", "g")),
+         "first click, it is fitted.", "bounces.csv", ("sigma", "h0", "g", "bootstrap")),
     Kind("ball-ball", "ball–ball friction f and e from oblique shots, §VI n°13 then §II n°7; each shot predicted",
          "v: the cue ball's speed before the impact (m/s, rolling); phi: the cut angle, between its velocity and "
          "the line of centres (rad; phi_deg for degrees); cue_speed, cue_dir, obj_speed, obj_dir: each ball's speed "

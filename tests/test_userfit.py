@@ -236,7 +236,7 @@ def test_pendulum_heights_example_takes_the_striker_back_from_momentum(tmp_path)
     assert any("moving back" in w for w in s["warnings"])
 
 
-@pytest.mark.parametrize("kind, args", [("drop", {}), ("ball-ball", {"R": 0.02855})])
+@pytest.mark.parametrize("kind, args", [("drop", {}), ("ball-ball", {"R": 0.02855}), ("bounces", {"h0": 0.5})])
 def test_the_bootstrap_reports_its_progress_and_batches_change_nothing(kind, args):
     """Progress after every resample (one at a time) or every batch (ball-ball's batched refits), up to the total;
     and the batched bootstrap draws what the one-at-a-time one would."""
@@ -266,3 +266,14 @@ def test_pendulum_reduced_chi2_judges_a_given_sigma(tmp_path):
     wrong, _ = _run(tmp_path / "b", "pendulum", EXAMPLES / "pendulum.csv", "--sigma", "0.0025")
     assert 0.3 < right["goodness"]["reduced_chi2"] < 3 and not right["warnings"]
     assert wrong["goodness"]["reduced_chi2"] > 2.5 and any("exceeds the given σ" in w for w in wrong["warnings"])
+
+
+def test_bounces_bootstrap_and_fitted_instants(tmp_path):
+    s, out = _run(tmp_path, "bounces", EXAMPLES / "bounces.csv", "--h0", "0.5", "--bootstrap", "200")
+    nu = _by_id(s)["bounces.nu"]
+    lo, hi = nu["ci95_bootstrap"]
+    assert lo < nu["value"] < hi and s["bootstrap"]["resamples"] == 200
+    rows = (out / "residuals.csv").read_text().splitlines()[1:]
+    resid = [float(r.split(",")[1]) - float(r.split(",")[2]) for r in rows]
+    assert max(map(abs, resid)) < 5e-3  # the example's jitter is 1 ms: the fitted instants are the model's
+    assert (out / "residuals.png").is_file()

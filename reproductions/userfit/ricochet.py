@@ -8,15 +8,19 @@ Bounces: the impact instants of a ball bouncing in place (an audio recording's c
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
-from ..fitting import fit_bounces, fit_friction, fit_imprints, fit_times
+from ..estimation import bootstrap
+from ..fitting import FitResult, fit_bounces, fit_friction, fit_imprints, fit_times
+from ..mechanics import plane
 from ..results import FigureSpec, layer
 from ..series import check_imprints, read_series
 from .common import (
+    BOOT_NOTE,
     FitOptions,
     FitOutcome,
     base_summary,
@@ -71,11 +75,22 @@ def fit_ricochet(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     summary["fits"] = fits
     summary["identifiability"] = ident
     summary["bootstrap"] = None
-    nrange = np.arange(x.size)
-    fig = FigureSpec("fit", "resal fit ricochet: imprint positions", "imprint number", "x (m)",
-                     (layer("points", nrange, x, label="measured"),))
-    return FitOutcome(summary, (fig,), ("line", "x (m)") + (("t (s)",) if t is not None else ()),
-                      tuple((s.lines[i], float(x[i]), *(() if t is None else (float(t[i]),))) for i in range(x.size)))
+    nu_, A_, u_, x0_ = fi.point
+    P = plane.ricochet_ranges_spinless(nu_, A_, u_, opts.k, x.size - 1)
+    model = x0_ + np.concatenate([[0.0], np.cumsum(P)])
+    flights = np.arange(1, x.size)
+    fig = FigureSpec("fit", "resal fit ricochet: the range of each flight, measured and fitted",
+                     "flight number", "range (m)",
+                     (layer("points", flights, np.diff(x), label="measured (between imprints)"),
+                      layer("line", flights, P, color="C1", label=f"fitted, ν = {nu_:.4g} (§III, spinless)")),
+                     caption="while the ball slides, friction shortens each range more than ν; once it rolls, by ν")
+    res = FigureSpec("residuals", "resal fit ricochet: residuals of the imprint positions", "imprint number",
+                     "measured − fitted x (m)",
+                     (layer("points", np.arange(x.size), x - model, label="imprints"),
+                      layer("line", [0.0, float(x.size - 1)], [0.0, 0.0], color="0.4", style=":")))
+    return FitOutcome(summary, (fig, res), ("line", "x (m)", "fitted x (m)") + (("t (s)",) if t is not None else ()),
+                      tuple((s.lines[i], float(x[i]), float(model[i]), *(() if t is None else (float(t[i]),)))
+                            for i in range(x.size)))
 
 
 def fit_clicks(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
@@ -101,11 +116,52 @@ def fit_clicks(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     summary = base_summary(kind, path, t.size, columns_read(s, {"t": "time"}), opts)
     summary["fits"] = fits
     summary["identifiability"] = [identifiability(fb, labels, path.name)]
-    summary["bootstrap"] = None
     if nu["value"] is not None:
         summary["comparison"] = {"paper": [], "today": today(("e_t",), tuple(nu["ci95"]), "ν")}
+    tt = t - t[0]
+    model = _instants(fb, t.size, opts.h0)
+    resid = tt - model
+    dof = t.size - 3
+    names = ("nu", "g") if opts.h0 is not None else ("nu",)
+
+    def draw(rng: np.random.Generator) -> np.ndarray:
+        # residual bootstrap: the fitted instants plus resampled residuals, inflated for the 3 fitted parameters
+        return model + rng.choice(resid, t.size) * math.sqrt(t.size / dof)
+
+    def refit(ts: np.ndarray) -> list[float]:
+        if np.any(np.diff(ts) <= 0):
+            raise ValueError("a resample whose instants do not increase")
+        f = fit_bounces(ts, g=opts.g, h0=opts.h0, sigma=sigma)
+        return [float(f.point[f.names.index(n)]) for n in names]
+
+    boot = bootstrap(refit, draw, names, opts.resamples, opts.seed, opts.progress) if opts.resamples else None
+    if boot is not None:
+        for r in fits:
+            key = r["id"].split(".")[-1]
+            if key in boot.names:
+                r["ci95_bootstrap"] = list(boot.ci95[boot.names.index(key)])
+    summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
+                                                      "failed": boot.failed,
+                                                      "kind": "residuals (resampled onto the fitted instants)",
+                                                      "note": BOOT_NOTE}
     flights = np.diff(t)
     k = np.arange(flights.size)
-    figs = (FigureSpec("fit", "resal fit bounces: flight durations", "flight number", "duration (s)",
-                       (layer("points", k, flights, label="measured"),)),)
-    return FitOutcome(summary, figs, ("line", "t (s)"), tuple((s.lines[i], float(t[i])) for i in range(t.size)))
+    fitted = np.diff(model)
+    figs = (FigureSpec("fit", "resal fit bounces: flight durations, measured and fitted", "flight number",
+                       "duration (s)", (layer("points", k, flights, label="measured (between clicks)"),
+                                        layer("line", k, fitted, color="C1",
+                                              label=f"fitted: T1 ν^i, ν = {fb.point[0]:.4g} (§III n°9)"))),
+            FigureSpec("residuals", "resal fit bounces: residuals of the click instants", "click number",
+                       "measured − fitted instant (s)",
+                       (layer("points", np.arange(t.size), resid, label="clicks"),
+                        layer("line", [0.0, float(t.size - 1)], [0.0, 0.0], color="0.4", style=":"))))
+    return FitOutcome(summary, figs, ("line", "t (s)", "fitted t (s)"),
+                      tuple((s.lines[i], float(t[i]), float(model[i] + t[0])) for i in range(t.size)))
+
+
+def _instants(fb: FitResult, n: int, h0: float | None) -> np.ndarray:
+    """t_i = t0 + T1 (1 − ν^i)/(1 − ν) at the fit's point (§III n°9), T1 = 2ν√(2 h0/g) when g was fitted."""
+    p = dict(zip(fb.names, fb.point, strict=True))
+    T1 = p["T1"] if "T1" in p else 2 * p["nu"] * math.sqrt(2 * float(h0 or 0.0) / p["g"])
+    i = np.arange(n)
+    return p["t0"] + T1 * np.cumsum(np.concatenate([[0.0], p["nu"] ** i[:-1]]))
