@@ -41,7 +41,7 @@ def _json(obj: Any) -> str:
 
 def _fail(err: InputError) -> NoReturn:
     """One message on stderr; exit 2 for bad input, 1 for a computation that failed on valid input."""
-    err_console.print(Text("error: ", style="bold red") + Text(str(err)))
+    err_console.print(Text("error: ", style="bold red") + Text(str(err)), soft_wrap=True)  # one line, unwrapped
     raise typer.Exit(1 if isinstance(err, ComputationError) else 2)
 
 
@@ -51,6 +51,8 @@ MAX_JOBS = 256  # `reproduce --jobs`: a pool forks all its workers at once, so a
 def _out_folder(text: str | Path) -> Path:
     """``--out``: a folder; an empty text (which would mean the current folder) is refused."""
     text = str(text)  # typer hands a default Path through the parser too
+    if text.startswith("-"):
+        _fail(InputError(f"--out {text}", "expected a folder, got an option (was the folder left out?)"))
     if not text.strip():
         _fail(InputError(f"--out '{text}'", "expected a folder (an empty name would write into the current "
                                             "folder; say --out . if that is what you mean)"))
@@ -291,6 +293,9 @@ class _FitCommand(typer.core.TyperCommand):
             return super().parse_args(ctx, args)
         except Exception as exc:  # click's NoSuchOption (typer vendors click in recent versions: matched by name)
             if type(exc).__name__ != "NoSuchOption":
+                if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):  # any other usage error
+                    _fail(InputError(f"resal fit {self.name}", f"{exc.format_message()} (see resal fit "
+                                                              f"{self.name} --help)"))
                 raise
             takes = ", ".join(sorted(o for p in self.params for o in p.opts if o.startswith("--") and o != "--help"))
             why = ("not used by the ricochet fit, which estimates the noise of positions and instants from their "
@@ -431,9 +436,7 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
     resamples = kw.pop("bootstrap", 0)
     noise = Noise(kw.pop("noise", "auto"))
     try:
-        from reproductions.report import ensure_writable
-
-        ensure_writable(out.parent, "--out")
+        _check_fit_out(out, csv_file)
         with Progress(TextColumn("bootstrap"), BarColumn(), MofNCompleteColumn(), console=err_console,
                       transient=True, disable=not err_console.is_terminal or resamples == 0) as bar:
             task = bar.add_task("bootstrap", total=resamples)
@@ -446,10 +449,35 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
         _fail(err)
     except (ArithmeticError, ValueError) as err:
         _fail(ComputationError(str(csv_file), f"the fit failed: {err}"))
+    except OSError as err:
+        _fail(InputError(f"--out {out}", f"cannot write the output folder ({err.strerror or err})"))
     if as_json:
         typer.echo(_json(outcome.summary))
         return
     _print_fit(outcome.summary, folder)
+
+
+def _check_fit_out(out: Path, data: Path) -> None:
+    """``resal fit --out``: a folder that is new, or holds an earlier fit (fit.json), never the data's own folder
+    or the current one (the whole folder is replaced); nothing is created before the fit has succeeded."""
+    where = f"--out {out}"
+    if out.exists() and not out.is_dir():
+        _fail(InputError(where, "exists and is not a folder: expected a folder for the fit's files"))
+    target = out.resolve()
+    if target == Path.cwd().resolve() or target in Path.cwd().resolve().parents:
+        _fail(InputError(where, "is the current folder (or holds it): the fit replaces its output folder whole; "
+                                "name a new folder"))
+    if data.exists() and target in data.resolve().parents:
+        _fail(InputError(where, f"holds the data file {data}: the fit replaces its output folder whole; name "
+                                "another folder"))
+    if out.is_dir() and any(out.iterdir()) and not (out / "fit.json").is_file():
+        _fail(InputError(where, "holds other files (not an earlier resal fit output, which has fit.json): the fit "
+                                "replaces its output folder whole; name a new folder"))
+    probe = out
+    while not probe.exists():
+        probe = probe.parent
+    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
+        _fail(InputError(where, f"cannot be created: {probe} is not a writable folder"))
 
 
 def _print_fit(s: dict[str, Any], folder: Path) -> None:
@@ -476,6 +504,12 @@ def _print_fit(s: dict[str, Any], folder: Path) -> None:
         lines.append(f"speed dependence: {s['speed_dependence']['verdict']}")
         if s["speed_dependence"].get("law"):
             lines.append(f"law: {s['speed_dependence']['law']['text']}")
+    good = s.get("goodness") or {}
+    if good.get("reduced_chi2") is not None:
+        lines.append(f"goodness of fit: reduced χ² = {good['reduced_chi2']:.3g} (p = {good['chi2_p']:.2g})")
+    if good.get("lack_of_fit"):
+        lof = good["lack_of_fit"]
+        lines.append(f"lack of fit (pure error, repeated speeds): F = {lof['F']:.3g}, p = {lof['p']:.2g}")
     for p in (s.get("comparison") or {}).get("paper", []):
         lines.append(f"paper (line {p['line']}): {p['claim']}: {p['value']:.4g}, {p['verdict']}")
     for m in (s.get("comparison") or {}).get("today", []):

@@ -84,4 +84,5 @@ def write_fit(outcome: FitOutcome, out: Path, plot: bool = True) -> Path:
     s = outcome.summary
     files = {"fit.json": json.dumps(s, indent=2, ensure_ascii=False, allow_nan=False) + "\n",
              "fit.md": fit_markdown(s), "residuals.csv": _csv(outcome.residual_headers, outcome.residual_rows)}
+    out.parent.mkdir(parents=True, exist_ok=True)
     return write_folder(out, files, outcome.figures if plot else ())

@@ -145,7 +145,8 @@ def test_unsigned_speeds_said_in_the_header_or_by_option_fit_as_signed(tmp_path)
     option, _ = _run(tmp_path / "c", "cushion", _write(tmp_path / "p.csv", "V0,V1", u0, u1), "--speeds",
                      "unsigned")
     assert _by_id(signed)["e"]["value"] == pytest.approx(0.6, abs=0.01)
-    assert _by_id(header)["e"] == _by_id(signed)["e"] == _by_id(option)["e"]
+    nums = [{k: _by_id(x)["e"][k] for k in ("value", "stderr", "ci95")} for x in (signed, header, option)]
+    assert nums[0] == nums[1] == nums[2]
     res = runner.invoke(app, ["fit", "cushion", str(tmp_path / "p.csv"), "--out", str(tmp_path / "d")])
     assert res.exit_code == 2 and "--speeds unsigned" in " ".join(res.stderr.split())
     assert not (tmp_path / "d").exists()  # nothing written
@@ -277,3 +278,35 @@ def test_bounces_bootstrap_and_fitted_instants(tmp_path):
     resid = [float(r.split(",")[1]) - float(r.split(",")[2]) for r in rows]
     assert max(map(abs, resid)) < 5e-3  # the example's jitter is 1 ms: the fitted instants are the model's
     assert (out / "residuals.png").is_file()
+
+
+def test_lack_of_fit_is_warned_and_exact_repeats_are_not_a_lack_of_fit(tmp_path):
+    """Six speeds, three trials each: e alternating 0.88/0.80 between speeds is a lack of fit the pure-error test sees
+    (and Coriolis's constant e is then not 'supported'); exact repeats of a constant e are none."""
+    v = np.repeat([0.5, 1.0, 1.5, 2.0, 2.5, 3.0], 3)
+    e = np.where(np.repeat(np.arange(6) % 2 == 0, 3), 0.88, 0.80) + np.tile([-0.001, 0.0, 0.001], 6)
+    s, _ = _run(tmp_path / "a", "cushion", _write(tmp_path / "lof.csv", "u0,u1", v, e * v))
+    assert s["goodness"]["lack_of_fit"]["p"] < 1e-6 and any("lack of fit" in w for w in s["warnings"])
+    assert "reject a constant e" in s["comparison"]["paper"][1]["verdict"]
+    p, _ = _run(tmp_path / "b", "cushion", _write(tmp_path / "perfect.csv", "u0,u1", v, 0.8 * v))
+    assert p["goodness"]["lack_of_fit"]["p"] == 1.0 and not any("lack of fit" in w for w in p["warnings"])
+
+
+def test_a_sigma_the_scatter_contradicts_does_not_invent_a_speed_law(tmp_path):
+    rng = np.random.default_rng(11)
+    u0 = np.linspace(0.5, 3.5, 12)
+    s, _ = _run(tmp_path, "rebound", _write(tmp_path / "r.csv", "u0,u1", u0, 0.8 * u0 + rng.normal(0, 0.02, 12)),
+                "--sigma", "0.0002")
+    assert s["goodness"]["chi2_p"] < 1e-6 and s["speed_dependence"]["order"] == 0
+    assert all(t["test"] == "F" for t in s["speed_dependence"]["tests"])
+
+
+def test_out_never_replaces_a_folder_of_other_files_and_errors_are_one_line(tmp_path):
+    other = tmp_path / "mine"
+    other.mkdir()
+    (other / "notes.txt").write_text("keep me")
+    res = runner.invoke(app, ["fit", "drop", str(EXAMPLES / "drop.csv"), "--out", str(other)])
+    assert res.exit_code == 2 and "holds other files" in res.stderr
+    assert res.stderr.count("\n") == 1 and (other / "notes.txt").read_text() == "keep me"
+    _run(tmp_path / "again", "drop", EXAMPLES / "drop.csv")  # an earlier fit's folder is replaced
+    _run(tmp_path / "again", "drop", EXAMPLES / "drop.csv")

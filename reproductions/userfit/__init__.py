@@ -32,6 +32,8 @@ def fit_csv(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     """Fit the file at ``path`` with the estimator of ``kind``."""
     if kind not in KINDS:
         raise InputError(f"kind '{kind}'", f"expected one of {', '.join(KINDS)}")
+    if path.is_dir():
+        raise InputError(str(path), "is a folder: expected a CSV file")
     if not path.is_file():
         raise InputError(str(path), "no such file")
     return FITTERS[kind](kind, path, opts)

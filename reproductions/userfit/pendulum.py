@@ -53,10 +53,10 @@ def _heights(path: Path) -> bool:
 def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     heights = _heights(path)
     if heights:
-        s = read_series(path, ("h0", "h1", "h1p"), optional=("M", "Mp"), min_rows=1, positive=("h0", "M", "Mp"),
+        s = read_series(path, ("h0", "h1", "h1p"), optional=("M", "Mp"), min_rows=2, positive=("h0", "M", "Mp"),
                         nonnegative=("h1", "h1p"), dims=DIMS_H)
     else:
-        s = read_series(path, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=1, positive=("V0", "M", "Mp"),
+        s = read_series(path, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=2, positive=("V0", "M", "Mp"),
                         dims=DIMS)
     n = len(s.lines)
     for name, col, opt in (("striking", "M", opts.M), ("struck", "Mp", opts.Mp)):
@@ -147,10 +147,11 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                                  method="mean of (V1′ − V1)/V0 per trial", note=f"{k} trial(s)"))
     point = np.asarray(fit.point)
     pred = impact.direct_impact(M, Mp, V0, 0.0, eps=point[0], epsp=point[1])
-    summary = base_summary(kind, path, n, columns_read(s, DIMS), opts)
+    summary = base_summary(kind, path, n, columns_read(s, DIMS_H if heights else DIMS), opts)
     summary["fits"] = fits
     summary["identifiability"] = [identifiability(fit, LABELS, path.name)]
-    summary["noise"] = {"model": "given" if sigma_in is not None else "constant", "dof": fit.dof}
+    summary["noise"] = {"model": "given" if sigma_in is not None else (
+        "from the heights, scale estimated" if heights else "constant"), "dof": fit.dof}
     r_all = np.concatenate([pred.V1 - V1, pred.V1p - V1p])
     summary["goodness"] = {"reduced_chi2": None, "chi2_p": None}
     if sigma_in is not None and fit.dof > 0:

@@ -137,7 +137,8 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                      opts.progress) if opts.resamples and n >= MIN_BOOT_TRIALS else None
     at_bound = "upper" if e >= 1.0 - BOUND_TOL else ("lower" if e <= BOUND_TOL else None)  # of e; ε's is the other
     eps_bound = {"upper": "lower", "lower": "upper", None: None}[at_bound]
-    method = f"weighted least squares on §I eq. (9), {_noise_label(fr.noise, opts.sigma, unit_text, heights)}"
+    noise_text = _noise_label(fr.noise, opts.sigma, unit_text, s.written[out_col])
+    method = f"weighted least squares on §I eq. (9), {noise_text}"
     fits = [
         estimate_row("e", "e (Newton's restitution)", e, se_e, e_ci, method=method,
                      boot=None if boot is None else boot.ci95[0], clipped=clipped, at_bound=at_bound),
@@ -147,7 +148,9 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     ]
     # speed dependence: the per-trial e against the impact speed, with the weights of the noise model
     w_e = np.asarray(fr.weights) * (p * max(e, 1e-12) ** (p - 1)) ** 2
-    law, tests, laws = select_law(v, e_i, w_e, absolute=fr.noise is Noise.GIVEN)
+    # a given σ that the scatter contradicts (χ² p < 1 %) cannot judge a law: the F tests estimate the scale instead
+    sigma_holds = fr.noise is Noise.GIVEN and not (fr.chi2_p is not None and fr.chi2_p < 0.01)
+    law, tests, laws = select_law(v, e_i, w_e, absolute=sigma_holds)
     summary = base_summary(kind, path, n, columns_read(s, DIMS), opts)
     summary["fits"] = fits
     summary["noise"] = {"model": fr.noise.value, "chosen_by": "--sigma" if opts.sigma is not None else (
@@ -155,6 +158,11 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         "scale_unit": ("1 (relative)" if fr.noise is Noise.PROPORTIONAL else ("m" if heights else "m/s")),
         "loglik": fr.loglik, "dof": fr.dof, "quantile": fr.quantile}
     summary["goodness"] = _goodness(fr, x, y, w=np.asarray(fr.weights))
+    lof = summary["goodness"]["lack_of_fit"]
+    if lof is not None and lof["p"] < 0.01:
+        summary["warnings"].append(f"lack of fit: trials repeated at one impact speed agree with one another far "
+                                   f"better than with a constant e (F = {lof['F']:.3g}, p = {lof['p']:.2g}); e "
+                                   "above is an average, not a law of your data")
     # one parameter, linear in the data: determined by any trial (x > 0); the rank and the singular value say so
     sv = math.sqrt(float(np.sum(fr.weights)))
     summary["identifiability"] = [{"data": path.name, "parameters": ["e" if p == 1 else "e²"], "rank": 1,
@@ -178,7 +186,7 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                                    f"(p = {fr.chi2_p:.2g}); the interval from σ is too narrow")
     summary["per_trial"] = [{"line": s.lines[i], "impact_speed": float(v[i]), "e": float(e_i[i]),
                              "residual": fr.residuals[i]} for i in range(n)]
-    summary["comparison"] = _comparisons(kind, heights, e, e_ci, law, v)
+    summary["comparison"] = _comparisons(kind, heights, e, e_ci, law, v, tests, lof)
     summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
                                                       "failed": boot.failed, "kind": "pairs (trials resampled)",
                                                       "note": BOOT_NOTE}
@@ -195,8 +203,7 @@ def _factor(col: str, unit: str) -> float:
     return UNITS[DIMS[col]][unit]
 
 
-def _noise_label(noise: Noise, sigma: float | None, unit: str, heights: bool) -> str:
-    what = "h1" if heights else "V1"
+def _noise_label(noise: Noise, sigma: float | None, unit: str, what: str) -> str:
     if noise is Noise.GIVEN:
         return f"σ = {sigma:g} {unit} on {what} given (normal quantile)"
     if noise is Noise.PROPORTIONAL:
@@ -220,9 +227,15 @@ def _goodness(fr: Any, x: np.ndarray, y: np.ndarray, w: np.ndarray) -> dict[str,
         df1, df2 = levels.size - 1, x.size - levels.size
         from scipy import stats
 
-        F = ((sse - sspe) / df1) / (sspe / df2) if sspe > 0 else math.inf
-        out["lack_of_fit"] = {"test": "pure error F", "F": F if math.isfinite(F) else 1e300, "df": [df1, df2],
-                              "p": float(stats.f.sf(F, df1, df2)) if math.isfinite(F) else 0.0}
+        between = max(sse - sspe, 0.0)
+        if between <= 1e-12 * max(sse, 1e-300):  # the level means agree to rounding: no lack of fit to see
+            F, p_lof = 0.0, 1.0
+        elif sspe <= 1e-12 * sse:  # repeats agree exactly while the levels differ: the constant e is rejected
+            F, p_lof = 1e300, 0.0
+        else:
+            F = (between / df1) / (sspe / df2)
+            p_lof = float(stats.f.sf(F, df1, df2))
+        out["lack_of_fit"] = {"test": "pure error F", "F": F, "df": [df1, df2], "p": p_lof}
     return out
 
 
@@ -257,15 +270,19 @@ def _law_text(law: Any) -> str:
 
 
 def _comparisons(kind: str, heights: bool, e: float, ci: tuple[float, float], law: Any,
-                 v: np.ndarray) -> dict[str, Any]:
+                 v: np.ndarray, tests: list, lof: dict | None) -> dict[str, Any]:
     paper = []
     if kind in ("cushion", "rebound"):
         paper.append(paper_value(CORIOLIS_RATIO[0], CORIOLIS_RATIO[1], CORIOLIS_RATIO[2], ci, "e"))
         if float(v.max()) <= CORIOLIS_RANGE[1]:
+            if law.order or (lof is not None and lof["p"] < 0.01):
+                said = "your data reject a constant e there"
+            elif tests or lof is not None:
+                said = "your data show no evidence against a constant e there"
+            else:
+                said = "your data cannot test it (too few trials or speeds)"
             paper.append({"claim": CORIOLIS_RANGE[0], "value": CORIOLIS_RANGE[1], "line": CORIOLIS_RANGE[2],
-                          "verdict": "your speeds lie in that range; " + (
-                              "your data support a constant e there" if law.order == 0 else
-                              "your data reject a constant e there")})
+                          "verdict": f"your speeds lie in that range; {said}"})
     if kind in ("drop", "rebound"):
         er = math.sqrt(MARBLE_RATIO[1])
         paper.append(paper_value(MARBLE_RATIO[0], er, MARBLE_RATIO[2], ci, "e"))
