@@ -300,8 +300,15 @@ def with_estimated_scale(fit: FitResult, weighted_rss: float, lo: Sequence[float
         se = e.stderr * s
         ci = (max(e.value - q * se, a), min(e.value + q * se, b))
         est.append(dataclasses.replace(e, stderr=se, ci95=ci, clipped=ci != (e.value - q * se, e.value + q * se)))
-    combos = [dataclasses.replace(c, stderr=None if c.stderr is None else c.stderr * s,
-                                  ci95=(None, None) if c.stderr is None else
-                                  (c.value - q * c.stderr * s, c.value + q * c.stderr * s)) for c in fit.combinations]
+    combos = []
+    for c in fit.combinations:
+        if c.stderr is None:
+            combos.append(c)
+            continue
+        cc = np.asarray(c.coefficients)
+        clo = float(np.sum(np.minimum(cc * np.asarray(lo), cc * np.asarray(hi))))  # the combination's range
+        chi = float(np.sum(np.maximum(cc * np.asarray(lo), cc * np.asarray(hi))))  # over the box [lo, hi]
+        se = c.stderr * s
+        combos.append(dataclasses.replace(c, stderr=se, ci95=(max(c.value - q * se, clo), min(c.value + q * se, chi))))
     return dataclasses.replace(fit, estimates=tuple(est), combinations=tuple(combos),
                                noise="estimated from residuals (relative weights given)")

@@ -139,7 +139,8 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
             se = float(e_i[m].std(ddof=1) / math.sqrt(k))
             q = float(special.stdtrit(k - 1, 0.975)) if sigma_in is None or heights else float(special.ndtri(0.975))
             if sigma_in is not None and not heights:
-                se = sigma_in * math.sqrt(2.0) / float(np.mean(V0[m])) / math.sqrt(k)  # σ on V1 and on V1′
+                # var eᵢ = 2σ²/V0ᵢ² (σ on V1 and on V1′), so the mean's se is σ √2 √(Σ 1/V0ᵢ²)/k
+                se = sigma_in * math.sqrt(2.0 * float(np.sum(1.0 / V0[m] ** 2))) / k
             ci: tuple[float | None, float | None] = (mean - q * se, mean + q * se)
         else:
             se, ci = None, (None, None)
