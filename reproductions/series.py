@@ -102,6 +102,11 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
         raise InputError(where, f"empty series (expected a header with columns {', '.join(columns)})")
     head_line, head = numbered[0]
     written = [h.strip() for h in next(csv.reader([head]))]
+    if len(written) == 1 and len(columns) + len(optional) > 1:
+        for sep, name in ((";", "semicolons"), ("\t", "tabs")):
+            if sep in head:
+                raise InputError(f"{where}:{head_line}", f"the header is separated by {name}: expected commas "
+                                                         f"(columns {', '.join(columns)})")
     header, units = _parse_header(written, [*columns, *optional], dims, f"{where}:{head_line}")
     missing = [c for c in columns if c not in header]
     if missing:

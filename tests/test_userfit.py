@@ -154,6 +154,8 @@ def test_unsigned_speeds_said_in_the_header_or_by_option_fit_as_signed(tmp_path)
 
 @pytest.mark.parametrize("header, message", [
     ("V0_mm,V1_mm", "column 'V0_mm': unknown unit 'mm' for a speed"),
+    ("U0,U1", "names none of the columns of a rebound: expected V0,V1"),
+    ("V0;V1", "separated by semicolons: expected commas"),
     ("V0_furlong,V1", "unknown unit 'furlong'"),
     ("V0,V1,V2", "unknown column(s) V2"),
 ])

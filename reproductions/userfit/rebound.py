@@ -49,8 +49,13 @@ def _which(path: Path, kind: str, speeds: str | None) -> str:
         text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError):
         return "signed"  # read_series says what is wrong with the file
-    head = next((ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")), "")
+    numbered = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.startswith("#")]
+    line, head = numbered[0] if numbered else (0, "")
     names = {h.strip().split("_")[0] for h in head.split(",")}
+    if head and "," in head and not {"V0", "V1", "u0", "u1", "h0", "h1"} & names:
+        raise InputError(f"{path}:{line}", "the header names none of the columns of a rebound: expected V0,V1 "
+                                           "(signed velocities), u0,u1 (speeds) or h0,h1 (heights), each with an "
+                                           "optional unit (V0_cmps, h0_mm); names are case-sensitive")
     if {"h0", "h1"} & names:
         found = "heights"
     elif {"u0", "u1"} & names:
