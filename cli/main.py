@@ -493,37 +493,9 @@ def _print_fit(s: dict[str, Any], folder: Path) -> None:
                   "—" if f["stderr"] is None else f"{f['stderr']:.3g}", ci(f["ci95"]), ci(f.get("ci95_bootstrap")),
                   Text(f["note"]))
     out_console.print(t)
-    lines = [f"method: {m}" for m in dict.fromkeys(f["method"] for f in s["fits"])]
-    if s.get("bootstrap"):
-        b = s["bootstrap"]
-        lines.append(f"bootstrap: {b['resamples']} resamples ({b['kind']}), seed {b['seed']}, {b['failed']} failed: "
-                     f"{b['note']}")
-    if s.get("noise") and "chosen_by" in s["noise"]:
-        lines.append(f"noise model: {s['noise']['model']} (chosen by {s['noise']['chosen_by']})")
-    if s.get("speed_dependence"):
-        lines.append(f"speed dependence: {s['speed_dependence']['verdict']}")
-        if s["speed_dependence"].get("law"):
-            lines.append(f"law: {s['speed_dependence']['law']['text']}")
-    good = s.get("goodness") or {}
-    if good.get("reduced_chi2") is not None:
-        lines.append(f"goodness of fit: reduced χ² = {good['reduced_chi2']:.3g} (p = {good['chi2_p']:.2g})")
-    if good.get("lack_of_fit"):
-        lof = good["lack_of_fit"]
-        lines.append(f"lack of fit (pure error, repeated speeds): F = {lof['F']:.3g}, p = {lof['p']:.2g}")
-    for p in (s.get("comparison") or {}).get("paper", []):
-        lines.append(f"paper (line {p['line']}): {p['claim']}: {p['value']:.4g}, {p['verdict']}")
-    for m in (s.get("comparison") or {}).get("today", []):
-        val = f"{m['typ']:.4g}" if m["typ"] is not None else (
-            f"{m['low']:.4g}–{m['high']:.4g}" if m["low"] is not None else "law")
-        lines.append(f"today: {m['quantity']} {val} ({m['source']}): {m['verdict']}")
-    for i in s.get("identifiability", []):
-        sv = ", ".join(f"{v:.3g}" for v in i["singular_values"])
-        lines.append(f"{i['data']}: rank {i['rank']} of {len(i['parameters'])} (singular values {sv})")
-    for w in s.get("warnings", []):
-        lines.append(f"WARNING: {w}")
-    for c in s["columns"]:
-        if c["note"]:
-            lines.append(f"column {c['column']}: {c['note']}")
+    from reproductions.fitreport import fit_lines
+
+    lines = fit_lines(s)
     lines.append(f"wrote {folder}/")
     for ln in lines:
         out_console.print(Text(ln))

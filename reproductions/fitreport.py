@@ -10,7 +10,7 @@ from typing import Any
 from .report import code_provenance, write_folder
 from .userfit import FitOptions, FitOutcome
 
-__all__ = ["fit_markdown", "provenance", "write_fit"]
+__all__ = ["fit_lines", "fit_markdown", "provenance", "write_fit"]
 
 
 def provenance(path: Path, opts: FitOptions) -> dict[str, Any]:
@@ -35,40 +35,48 @@ def _ci(ci: list | None) -> str:
     return f"[{ci[0]:.4g}, {ci[1]:.4g}]"
 
 
+def fit_lines(s: dict[str, Any]) -> list[str]:
+    """What a fit says besides its estimates, a sentence per line: method, bootstrap, noise model, speed dependence,
+    goodness of fit, the paper's and today's values beside it, identifiability, warnings, columns read in SI."""
+    lines = [f"method: {m}" for m in dict.fromkeys(f["method"] for f in s["fits"])]
+    if s.get("bootstrap"):
+        b = s["bootstrap"]
+        lines.append(f"bootstrap: {b['resamples']} resamples ({b['kind']}), seed {b['seed']}, {b['failed']} failed: "
+                     f"{b['note']}")
+    if s.get("noise") and "chosen_by" in s["noise"]:
+        lines.append(f"noise model: {s['noise']['model']} (chosen by {s['noise']['chosen_by']})")
+    if s.get("speed_dependence"):
+        lines.append(f"speed dependence: {s['speed_dependence']['verdict']}")
+        if s["speed_dependence"].get("law"):
+            lines.append(f"law: {s['speed_dependence']['law']['text']}")
+    good = s.get("goodness") or {}
+    if good.get("reduced_chi2") is not None:
+        lines.append(f"goodness of fit: reduced χ² = {good['reduced_chi2']:.3g} (p = {good['chi2_p']:.2g})")
+    if good.get("lack_of_fit"):
+        lof = good["lack_of_fit"]
+        lines.append(f"lack of fit (pure error, repeated speeds): F = {lof['F']:.3g}, p = {lof['p']:.2g}")
+    for p in (s.get("comparison") or {}).get("paper", []):
+        lines.append(f"paper (line {p['line']}): {p['claim']}: {p['value']:.4g}, {p['verdict']}")
+    for m in (s.get("comparison") or {}).get("today", []):
+        val = f"{m['typ']:.4g}" if m["typ"] is not None else (
+            f"{m['low']:.4g}–{m['high']:.4g}" if m["low"] is not None else "law")
+        lines.append(f"today: {m['quantity']} {val} ({m['source']}): {m['verdict']}")
+    for i in s.get("identifiability", []):
+        sv = ", ".join(f"{v:.3g}" for v in i["singular_values"])
+        lines.append(f"{i['data']}: rank {i['rank']} of {len(i['parameters'])} (singular values {sv})")
+    lines += [f"WARNING: {w}" for w in s.get("warnings", [])]
+    lines += [f"column {c['column']}: {c['note']}" for c in s["columns"] if c["note"]]
+    return lines
+
+
 def fit_markdown(s: dict[str, Any]) -> str:
-    """fit.md: the estimates, the noise model, the tests, the comparisons, the warnings, the columns read."""
+    """fit.md: the estimates as a table, then ``fit_lines`` as a list."""
     out = [f"# resal fit {s['kind']}: {Path(s['file']).name} ({s['n']} rows)", ""]
     out += ["| parameter | value | std. error | 95 % interval | bootstrap 95 % | note |", "|---|---|---|---|---|---|"]
     for f in s["fits"]:
         out.append(f"| {f['parameter']} | {_num(f['value'])} | {_num(f['stderr'], 3)} | {_ci(f['ci95'])} | "
-                   f"{_ci(f.get('ci95_bootstrap'))} | {f['note'] or f['method']} |")
-    noise = s.get("noise")
-    if noise:
-        out += ["", f"Noise model: **{noise['model']}**" + (f" (chosen by {noise['chosen_by']})"
-                                                             if "chosen_by" in noise else "")]
-    sd = s.get("speed_dependence")
-    if sd:
-        out += ["", f"Speed dependence: {sd['verdict']}."]
-        if sd.get("law"):
-            out.append(f"Law: {sd['law']['text']}.")
-    good = s.get("goodness") or {}
-    if good.get("reduced_chi2") is not None:
-        out.append(f"Reduced χ² = {good['reduced_chi2']:.3g} (p = {good['chi2_p']:.2g}).")
-    if good.get("lack_of_fit"):
-        lof = good["lack_of_fit"]
-        out.append(f"Lack of fit (pure error): F = {lof['F']:.3g}, p = {lof['p']:.2g}.")
-    comp = s.get("comparison")
-    if comp:
-        out += ["", "| beside | value | verdict | source |", "|---|---|---|---|"]
-        for p in comp["paper"]:
-            out.append(f"| {p['claim']} | {_num(p['value'], 4)} | {p['verdict']} | paper, line {p['line']} |")
-        for m in comp["today"]:
-            val = _num(m["typ"], 4) if m["typ"] is not None else f"{_num(m['low'], 4)}–{_num(m['high'], 4)}"
-            out.append(f"| today: {m['quantity']} | {val} | {m['verdict']} | {m['source']} |")
-    if s.get("warnings"):
-        out += [""] + [f"- WARNING: {w}" for w in s["warnings"]]
-    out += ["", "Columns read: " + "; ".join(f"{c['column']} ({c['unit']}{', ' + c['note'] if c['note'] else ''})"
-                                             for c in s["columns"])]
+                   f"{_ci(f.get('ci95_bootstrap'))} | {f['note']} |")
+    out += [""] + [f"- {ln}" for ln in fit_lines(s)]
     return "\n".join(out) + "\n"
 
 

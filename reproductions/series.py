@@ -12,7 +12,7 @@ import numpy as np
 from .errors import InputError
 
 __all__ = ["MAX_IMPRINTS", "MIN_IMPRINTS", "UNITS", "Series", "check_imprints", "check_pendulum_trials",
-           "read_imprints", "read_rebounds", "read_series", "si_unit", "unit_label"]
+           "header_names", "read_imprints", "read_rebounds", "read_series", "si_unit", "unit_label"]
 
 MIN_IMPRINTS = 5  # a ricochet series: fewer imprints cannot tell ν from the launch
 MAX_IMPRINTS = 100  # Rozé counted up to 12; after 100 impacts at ν ≤ 0.8 a flight is 1e-10 of the first
@@ -76,6 +76,8 @@ class Series(dict):
     lines: list[int]
     units: dict[str, str | None]  # per column: the unit written in the header, None when read as SI
     written: dict[str, str]  # per column: the header as written (``V0_mps``)
+    factors: dict[str, float]  # per column: the factor that took its values to SI
+    unit_text: dict[str, str]  # per column: its unit as people write it (cm/s; the SI unit when none was written)
 
     def at(self, row: int) -> str:
         return f"{self.where}:{self.lines[row]}"
@@ -139,7 +141,23 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
     out = Series({h: np.asarray(v) for h, v in data.items()})
     out.where, out.lines = where, [n for n, _ in numbered[1:]]
     out.units, out.written = units, dict(zip(header, written, strict=True))
+    out.factors = {h: _factor(dims, h, units[h]) for h in header}
+    out.unit_text = {h: unit_label(units[h]) if units[h] is not None else
+                     (si_unit(dims[h]) if dims and h in dims else "1") for h in header}
     return out
+
+
+def header_names(path: Path) -> tuple[int, set[str]]:
+    """The header's line and its column names without their units (``V0_mps`` → ``V0``), to tell which set of
+    columns a file holds; (0, ∅) when the file cannot be read (``read_series`` then says why)."""
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError):
+        return 0, set()
+    for i, ln in enumerate(text.splitlines()):
+        if ln.strip() and not ln.startswith("#"):
+            return i + 1, {h.strip().split("_")[0] for h in ln.split(",") if h.strip()}
+    return 0, set()
 
 
 def read_rebounds(path: Path, heights: bool) -> Series:

@@ -18,7 +18,7 @@ from ..errors import InputError
 from ..estimation import bootstrap_many
 from ..fitting_ballball import fit_many, fit_shots, predict_shots, shot_residuals
 from ..results import FigureSpec, layer
-from ..series import UNITS, read_series
+from ..series import read_series
 from .common import (
     BOOT_NOTE,
     MIN_BOOT_TRIALS,
@@ -49,8 +49,7 @@ def fit_ballball(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     if (opts.sigma_speed is None) != (opts.sigma_dir is None):
         raise InputError("--sigma-speed/--sigma-dir", "give both noise levels (speed, relative; direction, in the "
                                                       "direction columns' unit) or neither")
-    dir_unit = s.units.get("cue_dir") or "rad"
-    sig_dir = None if opts.sigma_dir is None else opts.sigma_dir * UNITS["angle"][dir_unit]
+    sig_dir = None if opts.sigma_dir is None else opts.sigma_dir * s.factors["cue_dir"]
     cols = [s[c] for c in COLS]
     fit = fit_shots(*cols, R=opts.R, k=opts.k, sigma_speed=opts.sigma_speed, sigma_dir=sig_dir)
     names = dict(zip(fit.names, ("f_bb", "e_bb"), strict=True))

@@ -20,7 +20,7 @@ from ..estimation import bootstrap, with_estimated_scale
 from ..fitting import FitResult, fit_direct_impact
 from ..mechanics import impact
 from ..results import FigureSpec, layer
-from ..series import check_pendulum_trials, read_series
+from ..series import Series, check_pendulum_trials, header_names, read_series
 from .common import (
     BOOT_NOTE,
     MIN_BOOT_TRIALS,
@@ -41,17 +41,8 @@ LABELS = {"eps": "ε (striking body)", "epsp": "ε′ (struck body)"}
 DIMS_H = {"h0": "length", "h1": "length", "h1p": "length", "M": "mass", "Mp": "mass"}
 
 
-def _heights(path: Path) -> bool:
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError):
-        return False  # read_series says what is wrong with the file
-    head = next((ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")), "")
-    return "h0" in {h.strip().split("_")[0] for h in head.split(",")}
-
-
 def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
-    heights = _heights(path)
+    heights = "h0" in header_names(path)[1]
     if heights:
         s = read_series(path, ("h0", "h1", "h1p"), optional=("M", "Mp"), min_rows=2, positive=("h0", "M", "Mp"),
                         nonnegative=("h1", "h1p"), dims=DIMS_H)
@@ -67,13 +58,9 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
             raise InputError(f"--{col} {opt:g}", f"the file has a column {col} already: leave --{col} out")
     M = s["M"] if "M" in s else np.full(n, float(opts.M or 0.0))
     Mp = s["Mp"] if "Mp" in s else np.full(n, float(opts.Mp or 0.0))
-    from ..series import UNITS, Series, unit_label
-
-    out_col = "h1" if heights else "V1"
-    unit = s.units.get(out_col) or ("m" if heights else "mps")
-    factor = UNITS["length" if heights else "speed"][unit]
     cols = ("h0", "h1", "h1p") if heights else ("V0", "V1", "V1p")
-    check_sigma(opts.sigma, [s[c] / factor for c in cols], unit_label(unit))
+    factor, unit = s.factors[cols[1]], s.unit_text[cols[1]]
+    check_sigma(opts.sigma, [s[c] / factor for c in cols], unit)
     sigma_in = None if opts.sigma is None else opts.sigma * factor
     backwards = np.zeros(n, dtype=bool)
     res_sigma: np.ndarray | float | None = sigma_in
@@ -118,8 +105,8 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     boot = bootstrap(refit, lambda rng: rng.integers(0, n, n), names, opts.resamples, opts.seed,
                      opts.progress) if opts.resamples and n >= MIN_BOOT_TRIALS else None
     method = "least squares on §I eqs (8), bounds [0, 1], " + (
-        f"σ = {opts.sigma:g} {unit_label(unit)} on each height given" if heights and sigma_in is not None else
-        f"σ = {opts.sigma:g} {unit_label(unit)} given" if sigma_in is not None else
+        f"σ = {opts.sigma:g} {unit} on each height given" if heights and sigma_in is not None else
+        f"σ = {opts.sigma:g} {unit} given" if sigma_in is not None else
         "noise estimated (Student's t)") + (
         "; speeds at the bottom √(2gh) from the heights, each residual weighted by the height's noise carried "
         "through (dV/dh = g/V), and the striker's direction after the impact taken from momentum" if heights else "")

@@ -14,12 +14,13 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from scipy import special, stats
 
 from ..errors import InputError
 from ..estimation import Noise, bootstrap, fit_ratio, select_law, transform_interval
 from ..mechanics import impact
 from ..results import FigureSpec, layer
-from ..series import Series, read_series, unit_label
+from ..series import Series, header_names, read_series
 from .common import (
     BOOT_NOTE,
     MIN_BOOT_TRIALS,
@@ -45,14 +46,8 @@ MARBLE_RATIO = ("Résal: a ball dropped on marble rises to 2/3 of its height, e 
 
 def _which(path: Path, kind: str, speeds: str | None) -> str:
     """Which set of columns the header holds: signed speeds, unsigned speeds or heights."""
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError):
-        return "signed"  # read_series says what is wrong with the file
-    numbered = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.startswith("#")]
-    line, head = numbered[0] if numbered else (0, "")
-    names = {h.strip().split("_")[0] for h in head.split(",")}
-    if head and "," in head and not {"V0", "V1", "u0", "u1", "h0", "h1"} & names:
+    line, names = header_names(path)
+    if len(names) > 1 and not {"V0", "V1", "u0", "u1", "h0", "h1"} & names:
         raise InputError(f"{path}:{line}", "the header names none of the columns of a rebound: expected V0,V1 "
                                            "(signed velocities), u0,u1 (speeds) or h0,h1 (heights), each with an "
                                            "optional unit (V0_cmps, h0_mm); names are case-sensitive")
@@ -109,10 +104,8 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     heights = which == "heights"
     p = 2 if heights else 1  # y = e^p · x
     out_col = SETS["heights" if heights else ("unsigned" if which == "unsigned" else "signed")][1]
-    unit = s.units.get(out_col)
-    factor = 1.0 if unit is None else _factor(out_col, unit)
+    factor, unit_text = s.factors[out_col], s.unit_text[out_col]
     sigma_si = None if opts.sigma is None else opts.sigma * factor
-    unit_text = unit_label(unit) if unit is not None else ("m" if heights else "m/s")
     check_sigma(opts.sigma, [x / factor, y / factor], unit_text)
     n = x.size
     fr = fit_ratio(x, y, opts.noise, sigma_si)
@@ -134,7 +127,7 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     def refit(idx: np.ndarray) -> list[float]:
         if np.unique(idx).size < 2:
             raise ValueError("degenerate resample")
-        c = fit_ratio(x[idx], y[idx], fr.noise if fr.noise is not Noise.GIVEN else Noise.GIVEN, sigma_si).value
+        c = fit_ratio(x[idx], y[idx], fr.noise, sigma_si).value
         ee = float(e_of(np.array([min(c, 1.0)]))[0])
         return [ee, float(impact.eps_from_newton(ee))]
 
@@ -202,12 +195,6 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                       headers, rows)
 
 
-def _factor(col: str, unit: str) -> float:
-    from ..series import UNITS
-
-    return UNITS[DIMS[col]][unit]
-
-
 def _noise_label(noise: Noise, sigma: float | None, unit: str, what: str) -> str:
     if noise is Noise.GIVEN:
         return f"σ = {sigma:g} {unit} on {what} given (normal quantile)"
@@ -230,8 +217,6 @@ def _goodness(fr: Any, x: np.ndarray, y: np.ndarray, w: np.ndarray) -> dict[str,
             sspe += float(np.sum(w[m] * (q[m] - qm) ** 2))
         sse = float(np.sum(w * (q - fr.value) ** 2))
         df1, df2 = levels.size - 1, x.size - levels.size
-        from scipy import stats
-
         between = max(sse - sspe, 0.0)
         if between <= 1e-12 * max(sse, 1e-300):  # the level means agree to rounding: no lack of fit to see
             F, p_lof = 0.0, 1.0
@@ -325,6 +310,4 @@ def _figures(kind: str, v: np.ndarray, e_i: np.ndarray, e: float, ci: tuple[floa
 
 
 def _t(dof: int) -> float:
-    from scipy import special
-
     return float(special.stdtrit(max(dof, 1), 0.975))

@@ -100,17 +100,14 @@ def fit_clicks(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     if bad.size:
         raise InputError(s.at(int(bad[0]) + 1), f"column '{s.written['t']}': impact instants must increase; "
                                                 f"{t[bad[0] + 1]:g} s is not after {t[bad[0]]:g} s")
-    unit = s.units.get("t") or "s"
-    from ..series import UNITS, unit_label
-
-    factor = UNITS["time"][unit]
-    check_sigma(opts.sigma, [t / factor - t[0] / factor], unit_label(unit))
+    factor, unit = s.factors["t"], s.unit_text["t"]
+    check_sigma(opts.sigma, [t / factor - t[0] / factor], unit)
     sigma = None if opts.sigma is None else opts.sigma * factor
     fb = fit_bounces(t - t[0], g=opts.g, h0=opts.h0, sigma=sigma)
     labels = {"nu": "ν (normal-velocity yield = e)", "T1": "T1, the first flight (s)", "t0": "t0, first click (s)",
               "g": "g (m/s²)"}
     method = "least squares on impact instants, origin fitted; ν's interval: profile likelihood; " + (
-        f"σ = {opts.sigma:g} {unit_label(unit)} given" if sigma is not None else "jitter estimated (Student's t)")
+        f"σ = {opts.sigma:g} {unit} given" if sigma is not None else "jitter estimated (Student's t)")
     fits = rows_from_fit(fb, "bounces", labels, method, units={"T1": "s", "t0": "s", "g": "m/s²"})
     nu = next(r for r in fits if r["id"] == "bounces.nu")
     summary = base_summary(kind, path, t.size, columns_read(s, {"t": "time"}), opts)
