@@ -277,7 +277,7 @@ class _FitGroup(typer.core.TyperGroup):
     """`resal fit <kind>`: an unknown kind gets our one-line message, not click's usage screen."""
 
     def resolve_command(self, ctx: Any, args: list[str]) -> Any:
-        from reproductions.fitkinds import KINDS
+        from reproductions.fit.kinds import KINDS
 
         if args and not args[0].startswith("-") and args[0] not in KINDS:
             _fail(InputError(f"kind '{args[0]}'", f"expected one of {', '.join(KINDS)}"))
@@ -338,7 +338,7 @@ def _choice(name: str, choices: tuple[str, ...]) -> Callable[[str], str]:
 
 def _fit_options() -> dict[str, tuple[Any, Any]]:
     """Every option a kind may take: name → (annotation, default)."""
-    from reproductions import fitkinds
+    from reproductions.fit import kinds as fitkinds
 
     return {
         "sigma": (Annotated[float | None, typer.Option(
@@ -390,7 +390,7 @@ def _fit_command(name: str) -> None:
     """Register `resal fit <name>`, with the options its kind declares."""
     import inspect
 
-    from reproductions.fitkinds import KINDS, UNITS_HELP
+    from reproductions.fit.kinds import KINDS, UNITS_HELP
 
     kind = KINDS[name]
     P = inspect.Parameter
@@ -407,6 +407,8 @@ def _fit_command(name: str) -> None:
           annotation=Annotated[bool, typer.Option("--plot/--no-plot", help="draw the figures (PNG and PDF)")]),
         P("seed", P.KEYWORD_ONLY, default=0, annotation=Annotated[int, typer.Option(
             "--seed", parser=_count("--seed", 0, 2**32 - 1, "a seed"), help="seed of the bootstrap")]),
+        P("strict", P.KEYWORD_ONLY, default=False, annotation=Annotated[bool, typer.Option(
+            "--strict", help="exit with status 1 when the fit warns of anything (the files are still written)")]),
     ]
     defs = _fit_options()
     for opt in kind.options:
@@ -426,13 +428,13 @@ def _fit_command(name: str) -> None:
 def _run_fit(name: str, kw: dict[str, Any]) -> None:
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn
 
-    from reproductions.estimation import Noise
-    from reproductions.fitreport import provenance, write_fit
-    from reproductions.userfit import FitOptions, fit_csv
+    from reproductions.fit.estimators.trials import Noise
+    from reproductions.fit.report import provenance, write_fit
+    from reproductions.fit.run import FitOptions, fit_csv
 
     csv_file: Path = kw.pop("csv_file")
     out = kw.pop("out") or Path("results") / "fit" / f"{name}-{csv_file.stem}"
-    as_json, plot, seed = kw.pop("as_json"), kw.pop("plot"), kw.pop("seed")
+    as_json, plot, seed, strict = kw.pop("as_json"), kw.pop("plot"), kw.pop("seed"), kw.pop("strict")
     resamples = kw.pop("bootstrap", 0)
     noise = Noise(kw.pop("noise", "auto"))
     try:
@@ -453,8 +455,20 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
         _fail(InputError(f"--out {out}", f"cannot write the output folder ({err.strerror or err})"))
     if as_json:
         typer.echo(_json(outcome.summary))
-        return
-    _print_fit(outcome.summary, folder)
+    else:
+        _print_fit(outcome.summary, folder)
+    _print_warnings(outcome.summary["warnings"])
+    if strict and outcome.summary["warnings"]:
+        err_console.print(Text(f"--strict: {len(outcome.summary['warnings'])} warning(s): exit status 1"),
+                          soft_wrap=True)
+        raise typer.Exit(1)
+
+
+def _print_warnings(warnings: list[dict[str, str]]) -> None:
+    """Each finding of the fit's checks on stderr, one line each: ``WARNING [code]: message``."""
+    for w in warnings:
+        err_console.print(Text("WARNING", style="bold yellow") + Text(f" [{w['code']}]: {w['message']}"),
+                          soft_wrap=True)
 
 
 def _check_fit_out(out: Path, data: Path) -> None:
@@ -493,16 +507,16 @@ def _print_fit(s: dict[str, Any], folder: Path) -> None:
                   "—" if f["stderr"] is None else f"{f['stderr']:.3g}", ci(f["ci95"]), ci(f.get("ci95_bootstrap")),
                   Text(f["note"]))
     out_console.print(t)
-    from reproductions.fitreport import fit_lines
+    from reproductions.fit.report import fit_lines
 
-    lines = fit_lines(s)
+    lines = fit_lines(s, warnings=False)  # on stderr, after the table
     lines.append(f"wrote {folder}/")
     for ln in lines:
         out_console.print(Text(ln))
 
 
 def _register_fit_commands() -> None:
-    from reproductions.fitkinds import KINDS
+    from reproductions.fit.kinds import KINDS
 
     for name in KINDS:
         _fit_command(name)

@@ -16,7 +16,7 @@ from importlib import resources
 import numpy as np
 
 from .config import Experiment
-from .fitting import Estimate, Family, FitResult
+from .fit.estimators.lsq import Estimate, Family, FitResult
 
 __all__ = [
     "Computed", "FigureSpec", "FitRow", "Layer", "Reproduction", "Row", "TableSpec", "family_report", "fit_rows",

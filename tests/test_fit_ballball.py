@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from reproductions import fitting
-from reproductions import fitting_ballball as fb
 from reproductions.errors import InputError
+from reproductions.fit.estimators import lsq as fitting
+from reproductions.fit.estimators import shots as fb
 from reproductions.mechanics import cloth, impact, spheres
 
 R = 0.02855

@@ -12,12 +12,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from reproductions.estimation import Noise, fit_ratio, select_law
-from reproductions.fitting import fit_direct_impact
+from reproductions.fit.estimators.lsq import fit_direct_impact
+from reproductions.fit.estimators.trials import Noise, fit_ratio, select_law
+from reproductions.fit.kinds.pendulum import fit_pendulum
+from reproductions.fit.kinds.rebound import fit_rebounds
+from reproductions.fit.run import FitOptions
 from reproductions.mechanics import impact
-from reproductions.userfit import FitOptions
-from reproductions.userfit.pendulum import fit_pendulum
-from reproductions.userfit.rebound import fit_rebounds
 
 BAND = (0.92, 0.98)
 E_TRUE = 0.8

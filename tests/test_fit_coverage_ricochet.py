@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 
-from reproductions import fitting
+from reproductions.fit.estimators import lsq as fitting
 
 SEEDS = 300
 BAND = (0.92, 0.98)

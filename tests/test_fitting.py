@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from reproductions import fitting
+from reproductions.fit.estimators import lsq as fitting
 from reproductions.mechanics import impact
 
 

@@ -6,11 +6,12 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 # lower numbers are lower layers; a module may import only from its own layer or below
 LAYERS = {
-    "reproductions.errors": 0, "reproductions.mechanics": 1, "reproductions.fitting": 2, "reproductions.config": 2,
-    "reproductions.series": 2,
-    "reproductions.estimation": 2, "reproductions.fitting_ballball": 2, "reproductions.fitkinds": 0,
-    "reproductions.fitreport": 6, "reproductions.results": 3, "reproductions.experiments": 4, "reproductions.api": 5,
-    "reproductions.report": 5, "reproductions.userfit": 5, "reproductions.models": 5, "reproductions.bench": 5,
+    "reproductions.errors": 0, "reproductions.mechanics": 1, "reproductions.config": 2, "reproductions.series": 2,
+    "reproductions.fit": 0,  # the package's __init__ only: a docstring, no imports
+    "reproductions.fit.estimators": 2, "reproductions.fit.kinds": 5, "reproductions.fit.checks": 5,
+    "reproductions.fit.run": 5, "reproductions.fit.report": 6,
+    "reproductions.results": 3, "reproductions.experiments": 4, "reproductions.api": 5,
+    "reproductions.report": 5, "reproductions.models": 5, "reproductions.bench": 5,
     "reproductions.stress": 5, "reproductions.golden": 6, "reproductions": 0, "cli": 7,  # the package: __version__
 }
 
@@ -60,7 +61,8 @@ def test_the_physics_imports_nothing_above_it_and_reporting_no_experiment():
     for mod, deps in g.items():
         if mod.startswith("reproductions.mechanics"):
             assert all(d.startswith("reproductions.mechanics") for d in deps), (mod, deps)
-    for mod in ("reproductions.report", "reproductions.userfit", "reproductions.config", "reproductions.results"):
+    for mod in ("reproductions.report", "reproductions.config", "reproductions.results",
+                *(m for m in g if m.startswith("reproductions.fit"))):
         assert not any(d.startswith("reproductions.experiments") for d in g[mod]), (mod, g[mod])
 
 
@@ -80,3 +82,12 @@ def test_no_import_cycle():
     for m in sorted(g):
         if not state.get(m):
             visit(m, [])
+
+
+def test_the_fit_package_and_the_kinds_data_import_nothing_heavy():
+    """``resal --help`` reads the kinds' data: ``fit/__init__`` and ``fit/kinds/__init__`` import no numpy."""
+    for rel in ("reproductions/fit/__init__.py", "reproductions/fit/kinds/__init__.py"):
+        tree = ast.parse((ROOT / rel).read_text(encoding="utf-8"))
+        mods = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+        mods |= {n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
+        assert mods <= {"__future__", "dataclasses"}, (rel, mods)

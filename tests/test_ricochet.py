@@ -5,9 +5,10 @@ import pytest
 from typer.testing import CliRunner
 
 from cli.main import app
-from reproductions import api, fitting
+from reproductions import api
 from reproductions.errors import InputError
 from reproductions.experiments import ricochet as rc
+from reproductions.fit.estimators import lsq as fitting
 from reproductions.mechanics import plane
 from reproductions.mechanics.paths import Regime
 

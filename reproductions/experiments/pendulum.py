@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config import Experiment, Node
-from ..fitting import FitResult, fit_direct_impact
+from ..fit.estimators.lsq import FitResult, fit_direct_impact
 from ..mechanics import impact, reference
 from ..series import check_pendulum_trials
 from .base import (

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config import Experiment, Node
-from ..fitting import FitResult, fit_rebound
+from ..fit.estimators.lsq import FitResult, fit_rebound
 from ..mechanics import impact
 from ..series import read_rebounds
 from .base import (

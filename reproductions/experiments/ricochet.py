@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config import Experiment, Node
-from ..fitting import FitResult, fit_physical, fit_physical_positions, fit_positions, fit_times
+from ..fit.estimators.lsq import FitResult, fit_physical, fit_physical_positions, fit_positions, fit_times
 from ..mechanics import plane, reference
 from ..mechanics.paths import Regime
 from ..series import MAX_IMPRINTS, MIN_IMPRINTS, read_imprints

@@ -30,7 +30,7 @@ from enum import Enum
 import numpy as np
 from scipy import optimize, special
 
-from .mechanics import impact, plane
+from ...mechanics import impact, plane
 
 __all__ = [
     "Combination",

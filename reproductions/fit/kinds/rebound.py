@@ -16,11 +16,12 @@ from typing import Any
 import numpy as np
 from scipy import special, stats
 
-from ..errors import InputError
-from ..estimation import Noise, bootstrap, fit_ratio, select_law, transform_interval
-from ..mechanics import impact
-from ..results import FigureSpec, layer
-from ..series import Series, header_names, read_series
+from ...errors import InputError
+from ...mechanics import impact
+from ...results import FigureSpec, layer
+from ...series import Series, header_names, read_series
+from ..checks import Code, warn
+from ..estimators.trials import Noise, bootstrap, fit_ratio, select_law, transform_interval
 from .common import (
     BOOT_NOTE,
     MIN_BOOT_TRIALS,
@@ -158,7 +159,7 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     summary["goodness"] = _goodness(fr, x, y, w=np.asarray(fr.weights))
     lof = summary["goodness"]["lack_of_fit"]
     if lof is not None and lof["p"] < 0.01:
-        summary["warnings"].append(f"lack of fit: trials repeated at one impact speed agree with one another far "
+        warn(summary, Code.LACK_OF_FIT, f"lack of fit: trials repeated at one impact speed agree with one another far "
                                    f"better than with a constant e (F = {lof['F']:.3g}, p = {lof['p']:.2g}); e "
                                    "above is an average, not a law of your data")
     # one parameter, linear in the data: determined by any trial (x > 0); the rank and the singular value say so
@@ -176,11 +177,11 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     }
     if law.order:
         test = _test_text(_against_constant(law.order, tests))
-        summary["warnings"].append(f"the data reject a constant e ({test}): e above is "
+        warn(summary, Code.SPEED_LAW, f"the data reject a constant e ({test}): e above is "
                                    f"the mean over {law.v_range[0]:.3g}–{law.v_range[1]:.3g} m/s; the law "
                                    f"{_law_text(law)} describes them")
     if fr.chi2_p is not None and fr.chi2_p < 0.01:
-        summary["warnings"].append(f"the scatter exceeds the given σ: reduced χ² = {fr.chi2 / fr.dof:.3g} "
+        warn(summary, Code.CHI2, f"the scatter exceeds the given σ: reduced χ² = {fr.chi2 / fr.dof:.3g} "
                                    f"(p = {fr.chi2_p:.2g}); the interval from σ is too narrow")
     summary["per_trial"] = [{"line": s.lines[i], "impact_speed": float(v[i]), "e": float(e_i[i]),
                              "residual": fr.residuals[i]} for i in range(n)]

@@ -1,5 +1,5 @@
 """The kinds of ``resal fit``, as data (no numpy): their columns, options and example, for the command line's
-help. ``userfit`` maps each kind to the function that fits it."""
+help. ``fit.run`` maps each kind to the function that fits it."""
 
 from __future__ import annotations
 

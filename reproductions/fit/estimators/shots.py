@@ -49,9 +49,9 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .errors import InputError
-from .fitting import FitResult, analyse, least_squares_fit
-from .mechanics import cloth, impact, spheres
+from ...errors import InputError
+from ...mechanics import cloth, impact, spheres
+from .lsq import FitResult, analyse, least_squares_fit
 
 __all__ = ["BallBallFit", "ShotPrediction", "ShotResiduals", "fit_columns", "fit_many", "fit_shots", "predict_shots",
            "shot_residuals", "synthetic_shots"]

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 from scipy import special, stats
 
-from .fitting import FitResult
+from .lsq import FitResult
 
 __all__ = ["Bootstrap", "Noise", "PolyLaw", "RatioFit", "bootstrap", "bootstrap_many", "fit_ratio", "poly_law",
            "select_law", "transform_interval", "with_estimated_scale"]

@@ -15,12 +15,13 @@ from pathlib import Path
 import numpy as np
 from scipy import special, stats
 
-from ..errors import InputError
-from ..estimation import bootstrap, with_estimated_scale
-from ..fitting import FitResult, fit_direct_impact
-from ..mechanics import impact
-from ..results import FigureSpec, layer
-from ..series import Series, check_pendulum_trials, header_names, read_series
+from ...errors import InputError
+from ...mechanics import impact
+from ...results import FigureSpec, layer
+from ...series import Series, check_pendulum_trials, header_names, read_series
+from ..checks import Code, warn
+from ..estimators.lsq import FitResult, fit_direct_impact
+from ..estimators.trials import bootstrap, with_estimated_scale
 from .common import (
     BOOT_NOTE,
     MIN_BOOT_TRIALS,
@@ -147,11 +148,11 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         p_chi2 = float(stats.chi2.sf(chi2, fit.dof))
         summary["goodness"] = {"reduced_chi2": chi2 / fit.dof, "chi2_p": p_chi2}
         if p_chi2 < 0.01:
-            summary["warnings"].append(f"the scatter exceeds the given σ: reduced χ² = {chi2 / fit.dof:.3g} "
+            warn(summary, Code.CHI2, f"the scatter exceeds the given σ: reduced χ² = {chi2 / fit.dof:.3g} "
                                        f"(p = {p_chi2:.2g}); the intervals from σ are too narrow")
     imbalance = M * V0 - M * V1 - Mp * V1p
     if backwards.any():
-        summary["warnings"].append(f"the striker's rise heights give no direction: in {int(backwards.sum())} of {n} "
+        warn(summary, Code.ASSUMED, f"the striker's rise heights give no direction: in {int(backwards.sum())} of {n} "
                                    "trial(s) it was taken as moving back after the impact, the direction that keeps "
                                    "momentum (per_trial: striker_back)")
     summary["per_trial"] = [{"line": s.lines[i], "M": float(M[i]), "Mp": float(Mp[i]), "e": float(e_i[i]),
@@ -160,8 +161,8 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                              "residual_V1": float(pred.V1[i] - V1[i]), "residual_V1p": float(pred.V1p[i] - V1p[i])}
                             for i in range(n)]
     if rank < 2:
-        summary["warnings"].append("one mass ratio: only the combination M′ε + Mε′ is determined; trials with a "
-                                   "second mass ratio separate ε and ε′")
+        warn(summary, Code.IDENTIFIABILITY, "one mass ratio: only the combination M′ε + Mε′ is determined; "
+                                            "trials with a second mass ratio separate ε and ε′")
     summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
                                                       "failed": boot.failed, "kind": "pairs (trials resampled)",
                                                       "note": BOOT_NOTE}

@@ -7,8 +7,8 @@ import json
 from pathlib import Path
 from typing import Any
 
-from .report import code_provenance, write_folder
-from .userfit import FitOptions, FitOutcome
+from ..report import code_provenance, write_folder
+from .run import FitOptions, FitOutcome
 
 __all__ = ["fit_lines", "fit_markdown", "provenance", "write_fit"]
 
@@ -35,9 +35,10 @@ def _ci(ci: list | None) -> str:
     return f"[{ci[0]:.4g}, {ci[1]:.4g}]"
 
 
-def fit_lines(s: dict[str, Any]) -> list[str]:
+def fit_lines(s: dict[str, Any], warnings: bool = True) -> list[str]:
     """What a fit says besides its estimates, a sentence per line: method, bootstrap, noise model, speed dependence,
-    goodness of fit, the paper's and today's values beside it, identifiability, warnings, columns read in SI."""
+    goodness of fit, the paper's and today's values beside it, identifiability, warnings (unless the terminal
+    prints them on stderr), columns read in SI."""
     lines = [f"method: {m}" for m in dict.fromkeys(f["method"] for f in s["fits"])]
     if s.get("bootstrap"):
         b = s["bootstrap"]
@@ -64,7 +65,8 @@ def fit_lines(s: dict[str, Any]) -> list[str]:
     for i in s.get("identifiability", []):
         sv = ", ".join(f"{v:.3g}" for v in i["singular_values"])
         lines.append(f"{i['data']}: rank {i['rank']} of {len(i['parameters'])} (singular values {sv})")
-    lines += [f"WARNING: {w}" for w in s.get("warnings", [])]
+    if warnings:
+        lines += [f"WARNING [{w['code']}]: {w['message']}" for w in s.get("warnings", [])]
     lines += [f"column {c['column']}: {c['note']}" for c in s["columns"] if c["note"]]
     return lines
 

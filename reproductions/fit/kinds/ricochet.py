@@ -13,12 +13,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
-from ..estimation import bootstrap
-from ..fitting import FitResult, fit_bounces, fit_friction, fit_imprints, fit_times
-from ..mechanics import plane
-from ..results import FigureSpec, layer
-from ..series import check_imprints, read_series
+from ...errors import InputError
+from ...mechanics import plane
+from ...results import FigureSpec, layer
+from ...series import check_imprints, read_series
+from ..estimators.lsq import FitResult, fit_bounces, fit_friction, fit_imprints, fit_times
+from ..estimators.trials import bootstrap
 from .common import (
     BOOT_NOTE,
     FitOptions,

@@ -14,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
-from ..estimation import bootstrap_many
-from ..fitting_ballball import fit_many, fit_shots, predict_shots, shot_residuals
-from ..results import FigureSpec, layer
-from ..series import read_series
+from ...errors import InputError
+from ...results import FigureSpec, layer
+from ...series import read_series
+from ..estimators.shots import fit_many, fit_shots, predict_shots, shot_residuals
+from ..estimators.trials import bootstrap_many
 from .common import (
     BOOT_NOTE,
     MIN_BOOT_TRIALS,

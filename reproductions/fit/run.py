@@ -12,12 +12,13 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import InputError
-from ..fitkinds import KINDS, Kind
-from .ballball import fit_ballball
-from .common import FitOptions, FitOutcome
-from .pendulum import fit_pendulum
-from .rebound import fit_rebounds
-from .ricochet import fit_clicks, fit_ricochet
+from .checks import finish
+from .kinds import KINDS, Kind
+from .kinds.ballball import fit_ballball
+from .kinds.common import FitOptions, FitOutcome
+from .kinds.pendulum import fit_pendulum
+from .kinds.rebound import fit_rebounds
+from .kinds.ricochet import fit_clicks, fit_ricochet
 
 __all__ = ["FITTERS", "KINDS", "FitOptions", "FitOutcome", "Kind", "fit_csv"]
 
@@ -36,4 +37,6 @@ def fit_csv(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         raise InputError(str(path), "is a folder: expected a CSV file")
     if not path.is_file():
         raise InputError(str(path), "no such file")
-    return FITTERS[kind](kind, path, opts)
+    outcome = FITTERS[kind](kind, path, opts)
+    finish(outcome.summary)
+    return outcome

@@ -10,11 +10,11 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
-from ..estimation import Bootstrap, Noise
-from ..fitting import Estimate, FitResult
-from ..results import FigureSpec, modern_table
-from ..series import Series, si_unit, unit_label
+from ...errors import InputError
+from ...results import FigureSpec, modern_table
+from ...series import Series, si_unit, unit_label
+from ..estimators.lsq import Estimate, FitResult
+from ..estimators.trials import Bootstrap, Noise
 
 G = 9.80665  # m/s², standard gravity (the user may give their own with --g)
 DEFAULT_RESAMPLES = 1000
@@ -61,7 +61,7 @@ def estimate_row(pid: str, label: str, value: float | None, stderr: float | None
     """One estimate as ``summary.json`` holds it."""
     notes = []
     if at_bound is not None:
-        notes.append(f"WARNING: the fit ended on the {at_bound} bound of {label}: the data fit best at or beyond the "
+        notes.append(f"the fit ended on the {at_bound} bound of {label}: the data fit best at or beyond the "
                      "edge of its admissible range (check the data, their signs and units)")
     if clipped:
         notes.append("95 % interval cut at the admissible range")

@@ -1,0 +1,246 @@
+"""What every ``resal fit`` checks about its own fit before it reports a number.
+
+Each finding is a coded warning, ``{code, message}`` in fit.json's ``warnings`` and a WARNING line on stderr; the
+files are still written and ``--strict`` turns any warning into exit status 1. A program reads the code, a person
+the message. The checks:
+
+- goodness of fit: reduced χ² against a given σ; an estimated noise against what such a measurement plausibly has;
+  the pure-error lack-of-fit test where trials repeat (the kinds compute it, the code is here);
+- outliers by leave-one-out: each trial predicted from the others with its 95 % prediction interval
+  (``leave_one_out``: the deleted-residual statistics of the linearised fit, exact for a linear model);
+- conventions: a transformed reading of the data (directions mirrored, degrees read as radians, columns swapped,
+  speeds unsigned) that fits far better is named with the option or header that selects it (``better_reading``);
+- plausibility of the inputs: each kind declares the range a billiard or laboratory measurement has, per
+  dimension, and a column outside it is named with the unit that would put it inside (``plausible_columns``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from enum import Enum
+from typing import Any
+
+import numpy as np
+from scipy import stats
+
+from ..series import UNITS, Series, unit_label
+
+__all__ = ["PLAUSIBLE", "Code", "Reading", "better_reading", "chi2_given", "finish", "leave_one_out", "name_outliers",
+           "noise_plausible", "plausible_columns", "warn"]
+
+
+class Code(str, Enum):
+    """What a warning is about; the value is what fit.json carries."""
+
+    CHI2 = "chi2-exceeds-sigma"  # a given σ that the residuals contradict
+    NOISE = "noise-implausible"  # an estimated noise larger than such a measurement plausibly has
+    LACK_OF_FIT = "lack-of-fit"  # repeated trials agree with one another far better than with the model
+    SPEED_LAW = "speed-dependence"  # the data reject a constant coefficient
+    OUTLIER = "outlier"  # a trial outside the prediction interval from the others
+    CONVENTION = "convention"  # another reading of the data fits far better
+    UNIT = "implausible-input"  # a column outside what such a measurement can be (a unit missing?)
+    AT_BOUND = "at-bound"  # the estimate ended on the edge of its admissible range
+    IDENTIFIABILITY = "not-identifiable"  # the data determine only a combination
+    ASSUMED = "assumed"  # something the data do not say was taken as said (a direction, a sign)
+
+
+def warn(summary: dict[str, Any], code: Code, message: str) -> None:
+    """Record one finding (no duplicates: the same code and message once)."""
+    entry = {"code": code.value, "message": message}
+    if entry not in summary["warnings"]:
+        summary["warnings"].append(entry)
+
+
+def finish(summary: dict[str, Any]) -> None:
+    """The checks every kind shares, run on its summary: an estimate that ended on a bound of its range."""
+    for f in summary["fits"]:
+        if f.get("at_bound"):
+            warn(summary, Code.AT_BOUND, f"{f['parameter']} ended on the {f['at_bound']} bound of its admissible "
+                                         "range: the data fit best at or beyond its edge (check the data, their signs "
+                                         "and units)")
+
+
+# --------------------------------------------------------------------------------------------------------------
+# plausibility of the inputs
+
+@dataclass(frozen=True)
+class Range:
+    """What a measurement of one dimension plausibly is, in SI, and in words."""
+
+    low: float
+    high: float
+    what: str
+
+
+# per kind of quantity, in SI; wide enough for any billiard or laboratory measurement, narrow enough that a
+# column in another unit falls outside (cm/s read as m/s: 27–340 "m/s"; degrees read as radians: 30 "rad")
+PLAUSIBLE: dict[str, Range] = {
+    "ball-speed": Range(0.01, 15.0, "a billiard ball's speed (a hard break is 8–12 m/s)"),
+    "lab-speed": Range(1e-3, 30.0, "an impact speed in a laboratory rebound"),
+    "drop-height": Range(1e-3, 20.0, "a drop or rebound height in a laboratory"),
+    "pendulum-speed": Range(1e-3, 20.0, "a pendulum's speed at the bottom of its swing"),
+    "mass": Range(1e-3, 50.0, "a ball's or a pendulum bob's mass"),
+    "click-time": Range(0.0, 600.0, "the instant of a click in one recording"),
+    "imprint": Range(-20.0, 20.0, "an imprint position on a slab"),
+}
+
+
+def plausible_columns(s: Series, ranges: dict[str, str], dims: dict[str, str]) -> list[str]:
+    """For each column named in ``ranges`` (column → key of ``PLAUSIBLE``), a message when its values (in SI)
+    lie outside the plausible range, naming the unit that would put them inside; none when all are plausible."""
+    out = []
+    for col, key in ranges.items():
+        if col not in s:
+            continue
+        vals = np.abs(np.asarray(s[col], dtype=float))
+        vals = vals[np.isfinite(vals)]
+        if vals.size == 0:
+            continue
+        rng = PLAUSIBLE[key]
+        lo, hi = float(vals.min()), float(vals.max())
+        if rng.low <= lo and hi <= rng.high:
+            continue
+        unit = s.unit_text.get(col, "SI")
+        dim = dims.get(col)
+        hint = _unit_hint(vals / s.factors.get(col, 1.0), rng, dim, s.units.get(col))
+        out.append(f"column '{s.written[col]}' spans {lo / s.factors.get(col, 1.0):.4g}–"
+                   f"{hi / s.factors.get(col, 1.0):.4g} {unit}, outside {rng.low:g}–{rng.high:g} "
+                   f"{unit_label(next(iter(UNITS[dim]))) if dim else ''}, {rng.what}{hint}")
+    return out
+
+
+def _unit_hint(written: np.ndarray, rng: Range, dim: str | None, unit: str | None) -> str:
+    """'; read as cm/s (header V0_cmps) they would be' when another unit of the dimension puts them inside."""
+    if dim is None:
+        return ""
+    for u, factor in UNITS[dim].items():
+        if u == unit or (unit is None and factor == 1.0):
+            continue
+        si = np.abs(written) * factor
+        if rng.low <= float(si.min()) and float(si.max()) <= rng.high:
+            return f"; in {unit_label(u)} they would be plausible (write the unit in the header, '_{u}')"
+    return ""
+
+
+# --------------------------------------------------------------------------------------------------------------
+# goodness of fit
+
+def chi2_given(chi2: float, dof: int) -> tuple[float, float]:
+    """Reduced χ² and the p-value of χ² at least this large, when σ was given."""
+    return chi2 / max(dof, 1), float(stats.chi2.sf(chi2, max(dof, 1)))
+
+
+CHI2_P = 0.01  # a given σ is contradicted when χ² this improbable (or worse) is seen
+
+
+def noise_plausible(summary: dict[str, Any], estimated: float, limit: float, what: str, unit: str) -> None:
+    """Warn when an estimated noise exceeds what such a measurement plausibly has (``limit``)."""
+    if math.isfinite(estimated) and estimated > limit:
+        warn(summary, Code.NOISE, f"the scatter of {what} about the fit is {estimated:.3g} {unit}, more than the "
+                                  f"{limit:.3g} {unit} such a measurement plausibly has: the model does not describe "
+                                  "these data as read (check the columns' units, signs and conventions)")
+
+
+# --------------------------------------------------------------------------------------------------------------
+# leave-one-out
+
+OUTLIER_LEVEL = 0.05  # family-wise: a trial is named when outside its interval at level 0.05/n (Bonferroni)
+
+
+def leave_one_out(r: np.ndarray, J: np.ndarray, groups: np.ndarray, *, sigma_known: bool,
+                  dof_extra: int = 0) -> dict[str, np.ndarray]:
+    """Deleted-residual statistics of a (linearised) weighted least-squares fit, trial by trial.
+
+    ``r`` are the weighted residuals (measured − predicted, each divided by its σ or relative σ), ``J`` their
+    Jacobian with respect to the p fitted parameters (of the predictions, weighted), ``groups`` the trial of each
+    residual (a trial may measure several quantities). For trial g with residuals G the fit without it changes
+    them to e_G = (I − H_GG)⁻¹ r_G, with covariance s²(I − H_GG)⁻¹ (H the hat matrix); Q_g = r_Gᵀ(I − H_GG)⁻¹r_G
+    is χ² with |G| degrees of freedom when σ is known, and Q_g/|G| over the scale left without the trial,
+    (RSS − Q_g)/(N − p − |G| − dof_extra), is F(|G|, N − p − |G| − dof_extra) when it is estimated. Exact for a
+    linear model (Cook & Weisberg 1982, §4.2); the first-order approximation of a refit otherwise.
+
+    Returns per residual ``deleted`` (e, weighted) and ``sd`` (its standard deviation, weighted units), and per
+    trial (sorted group labels) ``p`` (the probability of a statistic at least as large) and ``stat``."""
+    r = np.asarray(r, dtype=float)
+    J = np.asarray(J, dtype=float).reshape(r.size, -1)
+    N = r.size
+    # hat matrix of the weighted problem, through a thin SVD (rank-safe: drop null directions)
+    u, sv, _ = np.linalg.svd(J, full_matrices=False)
+    keep = sv > sv.max() * 1e-10 if sv.size else np.zeros(0, bool)
+    U = u[:, keep]
+    rank = int(keep.sum())
+    rss = float(r @ r)
+    labels = np.unique(groups)
+    deleted = np.full(N, np.nan)
+    sd = np.full(N, np.nan)
+    pvals = np.full(labels.size, np.nan)
+    statv = np.full(labels.size, np.nan)
+    for k, g in enumerate(labels):
+        idx = np.flatnonzero(groups == g)
+        H = U[idx] @ U[idx].T
+        A = np.eye(idx.size) - H
+        if np.linalg.cond(A) > 1e12:  # the trial alone determines a parameter: nothing predicts it
+            continue
+        Ainv = np.linalg.inv(A)
+        e = Ainv @ r[idx]
+        Q = float(r[idx] @ e)
+        if sigma_known:
+            scale2 = 1.0
+            pvals[k] = float(stats.chi2.sf(Q, idx.size))
+        else:
+            df = N - rank - idx.size - dof_extra
+            if df < 1:
+                continue
+            scale2 = max(rss - Q, 0.0) / df
+            if scale2 <= 0:
+                continue
+            pvals[k] = float(stats.f.sf(Q / idx.size / scale2, idx.size, df))
+        statv[k] = Q / scale2
+        deleted[idx] = e
+        sd[idx] = np.sqrt(np.clip(np.diag(Ainv), 0, None) * scale2)
+    return {"deleted": deleted, "sd": sd, "p": pvals, "stat": statv, "labels": labels, "rank": np.array(rank)}
+
+
+def name_outliers(summary: dict[str, Any], lines: Sequence[int], p: np.ndarray, what: str = "trial") -> list[int]:
+    """Warn of the trials (by their file line) outside their leave-one-out interval at the family-wise level
+    ``OUTLIER_LEVEL`` (0.05/n each); returns those lines."""
+    p = np.asarray(p, dtype=float)
+    n = int(np.isfinite(p).sum())
+    if n == 0:
+        return []
+    cut = OUTLIER_LEVEL / n
+    bad = [int(lines[i]) for i in np.flatnonzero(np.isfinite(p) & (p < cut))]
+    if bad:
+        worst = float(np.nanmin(p))
+        warn(summary, Code.OUTLIER, f"{what}(s) on line(s) {', '.join(map(str, bad))} lie outside the interval the "
+                                    f"other {what}s predict for them (leave-one-out, smallest p = {worst:.2g}, below "
+                                    f"{cut:.2g} = 5 % over {n} {what}s): a misread or mistyped value, or a {what} "
+                                    "the model does not describe; see leave_one_out in fit.json")
+    return bad
+
+
+# --------------------------------------------------------------------------------------------------------------
+# conventions
+
+@dataclass(frozen=True)
+class Reading:
+    """Another reading of the data: its name, how the user selects it, and its fit's misfit (−2 log L, or χ²)."""
+
+    name: str
+    how: str  # the option or header that selects it
+    misfit: float
+
+
+CONVENTION_MARGIN = 10.0  # −2 log L lower by this much (a likelihood ratio of e⁵ ≈ 150) is "far better"
+
+
+def better_reading(summary: dict[str, Any], as_read: float, others: Sequence[Reading]) -> Reading | None:
+    """Warn when another reading of the data fits far better than the one taken; returns the best such reading."""
+    best = min(others, key=lambda o: o.misfit, default=None)
+    if best is None or not (as_read - best.misfit > CONVENTION_MARGIN):
+        return None
+    warn(summary, Code.CONVENTION, f"the data fit far better read as {best.name} (−2 log-likelihood "
+                                   f"{best.misfit:.4g} against {as_read:.4g} as read): if so, {best.how}")
+    return best

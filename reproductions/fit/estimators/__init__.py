@@ -1,0 +1,1 @@
+"""Pure estimators on numpy arrays (no files, no printing): ``lsq``, ``trials``, ``shots``."""
