@@ -27,8 +27,8 @@ from scipy import stats
 
 from ..series import UNITS, Series, unit_label
 
-__all__ = ["PLAUSIBLE", "Code", "Reading", "better_reading", "chi2_given", "finish", "leave_one_out", "name_outliers",
-           "noise_plausible", "plausible_columns", "warn"]
+__all__ = ["PLAUSIBLE", "Code", "Reading", "better_reading", "chi2_given", "finish", "leave_one_out", "loo_entries",
+           "name_outliers", "noise_plausible", "plausible_columns", "plausible_values", "warn"]
 
 
 class Code(str, Enum):
@@ -82,8 +82,7 @@ PLAUSIBLE: dict[str, Range] = {
     "drop-height": Range(1e-3, 20.0, "a drop or rebound height in a laboratory"),
     "pendulum-speed": Range(1e-3, 20.0, "a pendulum's speed at the bottom of its swing"),
     "mass": Range(1e-3, 50.0, "a ball's or a pendulum bob's mass"),
-    "click-time": Range(0.0, 600.0, "the instant of a click in one recording"),
-    "imprint": Range(-20.0, 20.0, "an imprint position on a slab"),
+    "flight-time": Range(1e-3, 5.0, "a bounce's flight (a drop from 20 m gives one of 4 s)"),
 }
 
 
@@ -94,21 +93,29 @@ def plausible_columns(s: Series, ranges: dict[str, str], dims: dict[str, str]) -
     for col, key in ranges.items():
         if col not in s:
             continue
-        vals = np.abs(np.asarray(s[col], dtype=float))
-        vals = vals[np.isfinite(vals)]
-        if vals.size == 0:
-            continue
-        rng = PLAUSIBLE[key]
-        lo, hi = float(vals.min()), float(vals.max())
-        if rng.low <= lo and hi <= rng.high:
-            continue
-        unit = s.unit_text.get(col, "SI")
-        dim = dims.get(col)
-        hint = _unit_hint(vals / s.factors.get(col, 1.0), rng, dim, s.units.get(col))
-        out.append(f"column '{s.written[col]}' spans {lo / s.factors.get(col, 1.0):.4g}–"
-                   f"{hi / s.factors.get(col, 1.0):.4g} {unit}, outside {rng.low:g}–{rng.high:g} "
-                   f"{unit_label(next(iter(UNITS[dim]))) if dim else ''}, {rng.what}{hint}")
+        si = np.asarray(s[col], dtype=float)
+        msg = plausible_values(si, si / s.factors.get(col, 1.0), key, dims.get(col), s.units.get(col),
+                               f"column '{s.written[col]}'", s.unit_text.get(col, ""))
+        if msg:
+            out.append(msg)
     return out
+
+
+def plausible_values(si: np.ndarray, written: np.ndarray, key: str, dim: str | None, unit: str | None, what: str,
+                     unit_text: str) -> str | None:
+    """A message when the magnitudes ``si`` (SI) lie outside ``PLAUSIBLE[key]``, naming the unit of ``dim`` that
+    would put the values as written inside; None when they are plausible (or all missing)."""
+    ok = np.isfinite(si)
+    vals, wr = np.abs(si[ok]), np.abs(np.asarray(written, dtype=float)[ok])
+    if vals.size == 0:
+        return None
+    rng = PLAUSIBLE[key]
+    lo, hi = float(vals.min()), float(vals.max())
+    if rng.low <= lo and hi <= rng.high:
+        return None
+    si_text = unit_label(next(iter(UNITS[dim]))) if dim else ""
+    return (f"{what}: {float(wr.min()):.4g} to {float(wr.max()):.4g} {unit_text}, outside {rng.low:g}–"
+            f"{rng.high:g} {si_text}, {rng.what}{_unit_hint(wr, rng, dim, unit)}")
 
 
 def _unit_hint(written: np.ndarray, rng: Range, dim: str | None, unit: str | None) -> str:
@@ -161,8 +168,10 @@ def leave_one_out(r: np.ndarray, J: np.ndarray, groups: np.ndarray, *, sigma_kno
     (RSS − Q_g)/(N − p − |G| − dof_extra), is F(|G|, N − p − |G| − dof_extra) when it is estimated. Exact for a
     linear model (Cook & Weisberg 1982, §4.2); the first-order approximation of a refit otherwise.
 
-    Returns per residual ``deleted`` (e, weighted) and ``sd`` (its standard deviation, weighted units), and per
-    trial (sorted group labels) ``p`` (the probability of a statistic at least as large) and ``stat``."""
+    Returns per residual ``deleted`` (e, weighted), ``sd`` (its standard deviation, weighted units) and ``q`` (the
+    95 % quantile: normal, or Student's t with the degrees of freedom left), and per trial (sorted group labels)
+    ``p`` (the probability of a statistic at least as large) and ``stat``. NaN where a trial alone determines a
+    parameter (nothing else predicts it)."""
     r = np.asarray(r, dtype=float)
     J = np.asarray(J, dtype=float).reshape(r.size, -1)
     N = r.size
@@ -175,6 +184,7 @@ def leave_one_out(r: np.ndarray, J: np.ndarray, groups: np.ndarray, *, sigma_kno
     labels = np.unique(groups)
     deleted = np.full(N, np.nan)
     sd = np.full(N, np.nan)
+    q = np.full(N, np.nan)
     pvals = np.full(labels.size, np.nan)
     statv = np.full(labels.size, np.nan)
     for k, g in enumerate(labels):
@@ -189,6 +199,7 @@ def leave_one_out(r: np.ndarray, J: np.ndarray, groups: np.ndarray, *, sigma_kno
         if sigma_known:
             scale2 = 1.0
             pvals[k] = float(stats.chi2.sf(Q, idx.size))
+            q[idx] = float(stats.norm.ppf(0.975))
         else:
             df = N - rank - idx.size - dof_extra
             if df < 1:
@@ -197,10 +208,31 @@ def leave_one_out(r: np.ndarray, J: np.ndarray, groups: np.ndarray, *, sigma_kno
             if scale2 <= 0:
                 continue
             pvals[k] = float(stats.f.sf(Q / idx.size / scale2, idx.size, df))
+            q[idx] = float(stats.t.ppf(0.975, df))
         statv[k] = Q / scale2
         deleted[idx] = e
         sd[idx] = np.sqrt(np.clip(np.diag(Ainv), 0, None) * scale2)
-    return {"deleted": deleted, "sd": sd, "p": pvals, "stat": statv, "labels": labels, "rank": np.array(rank)}
+    return {"deleted": deleted, "sd": sd, "q": q, "p": pvals, "stat": statv, "labels": labels,
+            "rank": np.array(rank)}
+
+
+def loo_entries(loo: dict[str, np.ndarray], lines: Sequence[int], quantity: Sequence[str], measured: np.ndarray,
+                sigma: np.ndarray) -> list[dict[str, Any]]:
+    """fit.json's ``leave_one_out``: per measured value, its trial's line, the value predicted by the fit without
+    that trial and the 95 % prediction interval (natural units: ``sigma`` is each residual's weight divisor), and
+    the trial's p-value."""
+    sigma = np.broadcast_to(np.asarray(sigma, dtype=float), np.shape(measured))
+    pred = measured - loo["deleted"] * sigma
+    half = loo["q"] * loo["sd"] * sigma
+    p_of = dict(zip(loo["labels"].tolist(), loo["p"].tolist(), strict=True))
+    out = []
+    for i in range(len(measured)):
+        ok = bool(np.isfinite(pred[i]) and np.isfinite(half[i]))
+        out.append({"line": int(lines[i]), "quantity": quantity[i], "measured": float(measured[i]),
+                    "predicted": float(pred[i]) if ok else None, "low": float(pred[i] - half[i]) if ok else None,
+                    "high": float(pred[i] + half[i]) if ok else None,
+                    "p": None if not np.isfinite(p_of[int(lines[i])]) else float(p_of[int(lines[i])])})
+    return out
 
 
 def name_outliers(summary: dict[str, Any], lines: Sequence[int], p: np.ndarray, what: str = "trial") -> list[int]:
@@ -216,8 +248,8 @@ def name_outliers(summary: dict[str, Any], lines: Sequence[int], p: np.ndarray, 
         worst = float(np.nanmin(p))
         warn(summary, Code.OUTLIER, f"{what}(s) on line(s) {', '.join(map(str, bad))} lie outside the interval the "
                                     f"other {what}s predict for them (leave-one-out, smallest p = {worst:.2g}, below "
-                                    f"{cut:.2g} = 5 % over {n} {what}s): a misread or mistyped value, or a {what} "
-                                    "the model does not describe; see leave_one_out in fit.json")
+                                    f"{cut:.2g} = 5 % over {n} {what}s): a misread or mistyped value, or one "
+                                    "the model does not describe (see leave_one_out in fit.json)")
     return bad
 
 

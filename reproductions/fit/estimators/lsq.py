@@ -40,6 +40,7 @@ __all__ = [
     "FitResult",
     "Identifiability",
     "analyse",
+    "bounce_instants",
     "fit_bounces",
     "fit_direct_impact",
     "fit_friction",
@@ -50,6 +51,7 @@ __all__ = [
     "fit_rebound",
     "fit_times",
     "least_squares_fit",
+    "numeric_jacobian",
     "orient",
     "synthetic_bounces",
     "synthetic_imprints",
@@ -149,6 +151,18 @@ def _jacobian(fun: Callable[[np.ndarray], np.ndarray], x: np.ndarray) -> np.ndar
         xm[j] -= h
         J[:, j] = (fun(xp) - fun(xm)) / (2.0 * h)
     return J
+
+
+def numeric_jacobian(fun: Callable[[np.ndarray], np.ndarray], x: Sequence[float]) -> np.ndarray:
+    """Central differences of ``fun`` at ``x``: for the leave-one-out check of a fit whose model has no analytic
+    Jacobian here (``fit.checks.leave_one_out``)."""
+    return _jacobian(fun, np.asarray(x, dtype=float))
+
+
+def bounce_instants(nu: float, T1: float, t0: float, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The instants t_i = t0 + T1 (1 − ν^i)/(1 − ν), i = 0 … n − 1 (§III n°9), and their Jacobian in (ν, T1, t0)."""
+    S = _bounce_sums(nu, n)
+    return t0 + T1 * S, np.c_[T1 * _bounce_dsums(nu, n), S, np.ones(n)]
 
 
 def _interval(value: float, se: float | None, q: float | None) -> tuple[float | None, float | None]:

@@ -17,7 +17,24 @@ from ...errors import InputError
 from ...mechanics import plane
 from ...results import FigureSpec, layer
 from ...series import check_imprints, read_series
-from ..estimators.lsq import FitResult, fit_bounces, fit_friction, fit_imprints, fit_times
+from ..checks import (
+    Code,
+    leave_one_out,
+    loo_entries,
+    name_outliers,
+    noise_plausible,
+    plausible_values,
+    warn,
+)
+from ..estimators.lsq import (
+    FitResult,
+    bounce_instants,
+    fit_bounces,
+    fit_friction,
+    fit_imprints,
+    fit_times,
+    numeric_jacobian,
+)
 from ..estimators.trials import bootstrap
 from .common import (
     BOOT_NOTE,
@@ -37,6 +54,11 @@ F_NOTE = ("f's 95 % interval is the profile likelihood's (both origins fitted, p
           "their own noise, Student's t with Welch–Satterthwaite degrees of freedom); it covered the true f in 93 % "
           "of 300 synthetic series of 8 imprints (Wald's covered 76 %)")
 MIN_CLICKS = 5  # three parameters and two degrees of freedom for the noise
+# the scatter such measurements plausibly have about the §III model: imprints marked on paper or a slab are read to a
+# few millimetres, so 2 cm is already a misread series or a ball that is not ricocheting as §III says; a click's onset
+# in a recording is sharp to a millisecond, and a real ball's ν drifting with speed adds a few ms: 20 ms is not that
+NOISE_X = 0.02  # m
+NOISE_T = 0.02  # s
 
 
 def fit_ricochet(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
@@ -78,6 +100,7 @@ def fit_ricochet(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     nu_, A_, u_, x0_ = fi.point
     P = plane.ricochet_ranges_spinless(nu_, A_, u_, opts.k, x.size - 1)
     model = x0_ + np.concatenate([[0.0], np.cumsum(P)])
+    _check_series(summary, s, x, model, fi, opts.k, t, opts.g)
     flights = np.arange(1, x.size)
     fig = FigureSpec("fit", "resal fit ricochet: the range of each flight, measured and fitted",
                      "flight number", "range (m)",
@@ -141,6 +164,7 @@ def fit_clicks(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                                                       "failed": boot.failed,
                                                       "kind": "residuals (resampled onto the fitted instants)",
                                                       "note": BOOT_NOTE}
+    _check_clicks(summary, s, tt, model, fb, opts.h0, sigma)
     flights = np.diff(t)
     k = np.arange(flights.size)
     fitted = np.diff(model)
@@ -162,3 +186,72 @@ def _instants(fb: FitResult, n: int, h0: float | None) -> np.ndarray:
     T1 = p["T1"] if "T1" in p else 2 * p["nu"] * math.sqrt(2 * float(h0 or 0.0) / p["g"])
     i = np.arange(n)
     return p["t0"] + T1 * np.cumsum(np.concatenate([[0.0], p["nu"] ** i[:-1]]))
+
+
+def _imprint_model(th: np.ndarray, k: float, n: int) -> np.ndarray:
+    """x_i = x0 + P_0 + … + P_{i−1}, the spinless closed form (§III n°9) at θ = (ν, A, u, x0)."""
+    P = plane.ricochet_ranges_spinless(th[0], th[1], th[2], k, n - 1)
+    return th[3] + np.concatenate([[0.0], np.cumsum(P)])
+
+
+def _check_series(summary: dict, s: dict, x: np.ndarray, model: np.ndarray, fi: FitResult, k: float,
+                  t: np.ndarray | None, g: float) -> None:
+    """A ricochet series checks itself: each imprint (and instant) predicted from the others (leave-one-out),
+    the scatter against what such measurements plausibly have."""
+    n = x.size
+    J = numeric_jacobian(lambda th: _imprint_model(th, k, n), fi.point)
+    r = x - model
+    lines = np.asarray(s.lines)
+    loo = leave_one_out(r, J, lines, sigma_known=False)
+    entries = loo_entries(loo, lines, ["x"] * n, x + s["x"][0], np.ones(n))
+    for e in entries:
+        e["unit"] = "m"
+    name_outliers(summary, lines, loo["p"], "imprint")
+    if fi.dof > 0:
+        noise_plausible(summary, float(np.sqrt(r @ r / fi.dof)), NOISE_X, "the imprint positions", "m")
+    if t is not None:
+        msg = plausible_values(np.diff(t), np.diff(s["t"]) / s.factors["t"], "flight-time", "time", s.units.get("t"),
+                               f"the flights between the imprints' instants (column '{s.written['t']}')",
+                               s.unit_text["t"])
+        if msg:
+            warn(summary, Code.UNIT, msg)
+        ft = fit_times(t, g=g, origin="fitted")
+        nu, zeta1, t0 = ft.point
+        mt, Jt = bounce_instants(nu, 2.0 * zeta1 / g, t0, n)
+        Jt = Jt.copy()
+        Jt[:, 1] *= 2.0 / g  # d/dζ1 of T1 = 2ζ1/g
+        rt = t - mt
+        loo_t = leave_one_out(rt, Jt, lines, sigma_known=False)
+        te = loo_entries(loo_t, lines, ["t"] * n, t + s["t"][0], np.ones(n))
+        for e in te:
+            e["unit"] = "s"
+        entries += te
+        name_outliers(summary, lines, loo_t["p"], "instant")
+        if ft.dof > 0:
+            noise_plausible(summary, float(np.sqrt(rt @ rt / ft.dof)), NOISE_T, "the impact instants", "s")
+    summary["leave_one_out"] = entries
+
+
+def _check_clicks(summary: dict, s: dict, tt: np.ndarray, model: np.ndarray, fb: FitResult, h0: float | None,
+                  sigma: float | None) -> None:
+    """Clicks check themselves: flights of a plausible duration (milliseconds read as seconds?), each click
+    predicted from the others (leave-one-out), the jitter against what a recording plausibly has."""
+    n = tt.size
+    flights = np.diff(tt)
+    msg = plausible_values(flights, flights / s.factors["t"], "flight-time", "time", s.units.get("t"),
+                           f"the flights between the clicks (column '{s.written['t']}')", s.unit_text["t"])
+    if msg:
+        warn(summary, Code.UNIT, msg)
+    p = dict(zip(fb.names, fb.point, strict=True))
+    T1 = p["T1"] if "T1" in p else None
+    if T1 is None:  # (ν, g, t0): the same instants through T1 = 2ν√(2h0/g)
+        T1 = 2 * p["nu"] * math.sqrt(2 * float(h0 or 0.0) / p["g"])
+    _, J = bounce_instants(p["nu"], T1, p["t0"], n)
+    r = tt - model
+    lines = np.asarray(s.lines)
+    sig = 1.0 if sigma is None else sigma
+    loo = leave_one_out(r / sig, J / sig, lines, sigma_known=sigma is not None)
+    summary["leave_one_out"] = loo_entries(loo, lines, ["t"] * n, tt + s["t"][0], np.full(n, sig))
+    name_outliers(summary, lines, loo["p"], "click")
+    if sigma is None and fb.dof > 0:
+        noise_plausible(summary, float(np.sqrt(r @ r / fb.dof)), NOISE_T, "the click instants", "s")
