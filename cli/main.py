@@ -345,10 +345,15 @@ def _fit_options() -> dict[str, tuple[Any, Any]]:
             "--sigma", parser=_positive("--sigma", "a standard deviation"),
             help="known standard deviation of each measured outcome (V1, h1, V1p…), in the data's own unit as the "
                  "header gives it (V1_cmps: cm/s; no unit: SI)")], None),
+        "sigma_in": (Annotated[float | None, typer.Option(
+            "--sigma-in", parser=_positive("--sigma-in", "a standard deviation"),
+            help="known standard deviation of each measured impact (V0, u0 or h0), in its column's unit as the "
+                 "header gives it: the fit then takes errors in both variables (effective variance); without "
+                 "--sigma the outcome's σ is estimated")], None),
         "noise": (Annotated[str, typer.Option(
             "--noise", parser=_choice("--noise", _NOISES),
             help="how the outcome scatters: constant, proportional (to the impact), or auto (the likelier of the "
-                 "two, by the data)")], "auto"),
+                 "two, by the data); not with --sigma, which gives it")], "auto"),
         "speeds": (Annotated[str | None, typer.Option(
             "--speeds", parser=_choice("--speeds", ("signed", "unsigned")),
             help="read V0,V1 as signed velocities (V1 ≤ 0, the default) or as unsigned speeds")], None),

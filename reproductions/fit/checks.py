@@ -78,8 +78,11 @@ class Range:
 # column in another unit falls outside (cm/s read as m/s: 27–340 "m/s"; degrees read as radians: 30 "rad")
 PLAUSIBLE: dict[str, Range] = {
     "ball-speed": Range(0.01, 15.0, "a billiard ball's speed (a hard break is 8–12 m/s)"),
-    "lab-speed": Range(1e-3, 30.0, "an impact speed in a laboratory rebound"),
-    "drop-height": Range(1e-3, 20.0, "a drop or rebound height in a laboratory"),
+    # 20 m/s: a drop from 20 m, beyond a hard break's 12 m/s; cm/s read as m/s (20–1000 for 0.2–10 m/s) fall outside
+    "lab-speed": Range(1e-3, 20.0, "an impact speed in a laboratory rebound"),
+    # 3 m: from there air drag lowers a billiard ball's √(h1/h0) about 1 % below e (terminal speed ≈ 48 m/s);
+    # and mm read as m (200–1000 "m") then name mm, not cm
+    "drop-height": Range(1e-3, 3.0, "a drop or rebound height in a laboratory"),
     "pendulum-speed": Range(1e-3, 20.0, "a pendulum's speed at the bottom of its swing"),
     "mass": Range(1e-3, 50.0, "a ball's or a pendulum bob's mass"),
     "flight-time": Range(1e-3, 5.0, "a bounce's flight (a drop from 20 m gives one of 4 s)"),

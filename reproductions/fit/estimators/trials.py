@@ -15,6 +15,12 @@ margin in favour of the proportional model (``AUTO_MARGIN``), whose interval sta
 Every trial gives its own ratio qᵢ = yᵢ/xᵢ with variance ∝ 1/wᵢ (wᵢ = xᵢ² for constant noise, 1 for proportional
 noise), so the fit of c is a weighted mean, and a law c(v) = b₀ + b₁v + b₂v² is a weighted polynomial fit of the
 qᵢ against the impact speed v: nested orders are compared by an F test (χ² difference when σ is given).
+
+When the impact x is measured too (σₓ given), the fit is the maximum-likelihood line through the origin with errors
+in both variables, by effective variance: each residual yᵢ − c·xᵢ has variance σ_y² + c²σₓ² (``fit_ratio_both``;
+York et al. 2004, Williamson 1968). The 95 % interval of a coefficient bounded to [0, 1] (e ≤ 1, ε ≥ 0) is the
+set of admissible c whose profile deviance lies below a cut ordered by likelihood ratio, Feldman & Cousins (1998):
+near the bound it ends there instead of being a Wald interval cut short (``bounded_interval``).
 """
 
 from __future__ import annotations
@@ -27,12 +33,13 @@ from enum import Enum
 from typing import Any
 
 import numpy as np
-from scipy import special, stats
+from scipy import optimize, special, stats
 
 from .lsq import FitResult
 
-__all__ = ["Bootstrap", "Noise", "PolyLaw", "RatioFit", "bootstrap", "bootstrap_many", "fit_ratio", "poly_law",
-           "select_law", "transform_interval", "with_estimated_scale"]
+__all__ = ["Bootstrap", "BoundedInterval", "Noise", "PolyLaw", "RatioFit", "bootstrap", "bootstrap_many",
+           "bounded_interval", "fit_ratio", "fit_ratio_both", "poly_law", "select_law", "transform_interval",
+           "with_estimated_scale"]
 
 # AUTO takes the constant model only when it is the likelier by a factor e³ ≈ 20: a wrong CONSTANT (the scatter
 # does grow with speed) gives intervals that cover 84–90 % with 8 trials, while a wrong PROPORTIONAL (the mean of the
@@ -68,6 +75,18 @@ class RatioFit:
     loglik: dict[str, float]  # maximised log-likelihood of each noise model considered
     chi2: float | None = None  # Σ ((yᵢ − c·xᵢ)/σ)² when σ is given
     chi2_p: float | None = None  # P(χ²_{n−1} ≥ chi2): small when σ understates the scatter
+    sigma_x: float | None = None  # errors in both: σ of the impact x (given), in x's unit
+    sigma_y: float | None = None  # errors in both: σ of the outcome y (given, or estimated by moments)
+    iterations: int = 0  # errors in both: York's iterations to convergence
+    common_scale: float = 1.0  # errors in both, σ estimated: the factor on σₓ and σ, √(S(ĉ)/(n − 1))
+    profile: Callable[[float], float] | None = None  # the profile deviance's S(c) (None: ((c − value)/stderr)²)
+
+    def deviance(self, c: float) -> float:
+        """−2 log L(c) up to a constant, in units of the estimated scale: ((c − ĉ)/se)² for the ratio fit, the
+        effective-variance sum S(c) for errors in both."""
+        if self.profile is not None:
+            return self.profile(c)
+        return ((c - self.value) / self.stderr) ** 2
 
 
 def _weights(x: np.ndarray, noise: Noise, sigma: float | None) -> np.ndarray:
@@ -87,6 +106,8 @@ def _loglik(x: np.ndarray, y: np.ndarray, noise: Noise) -> float:
     r = y - c * x
     n = x.size
     if noise is Noise.PROPORTIONAL:
+        if np.any(x <= 0):  # a scatter ∝ x has no meaning there (the kinds refuse such impacts)
+            return -math.inf
         s2 = float(np.mean((r / x) ** 2))
         return -0.5 * n * math.log(2 * math.pi * max(s2, 1e-300)) - float(np.sum(np.log(x))) - 0.5 * n
     s2 = float(np.mean(r**2))
@@ -121,6 +142,146 @@ def fit_ratio(x: np.ndarray, y: np.ndarray, noise: Noise = Noise.AUTO, sigma: fl
         chi2 = chi2_p = None
     return RatioFit(c, se, (c - quant * se, c + quant * se), noise, scale, dof, quant,
                     tuple(map(float, w)), tuple(map(float, r)), ll, chi2, chi2_p)
+
+
+YORK_TOL = 1e-12  # York's iteration has converged when c changes by less than this, relatively
+YORK_MAX_ITER = 1000  # and must within this many steps (it converges linearly; a few dozen steps in practice)
+
+
+def fit_ratio_both(x: np.ndarray, y: np.ndarray, sigma_x: float, sigma: float | None = None) -> RatioFit:
+    """c of y = c·x with errors in both variables: σₓ on x given, σ on y given or estimated.
+
+    Maximum likelihood under normal errors (the true impacts as nuisance parameters): c minimises the
+    effective-variance sum S(c) = Σ (yᵢ − c·xᵢ)²/(σ² + c²σₓ²), found by York et al. (2004)'s iteration for a line
+    through the origin, c ← Σ Wᵢβᵢyᵢ / Σ Wᵢβᵢxᵢ with Wᵢ = 1/(σ² + c²σₓ²), βᵢ = Wᵢ(σ²xᵢ + cσₓ²yᵢ), whose fixed
+    point is S′(c) = 0. Without σ, σₓ is taken as exact and σ² is estimated by moments, Σ(yᵢ − c·xᵢ)²/(n − 1) −
+    c²σₓ² (floored at 0; Fuller 1987 §1.2, known error variance), updated with c: the ratio σₓ/σ is then the
+    estimated one, and the interval takes Student's t with n − 1 degrees of freedom. The standard error is the
+    curvature's, √(2/S″(ĉ)); ``chi2`` (σ given) is S(ĉ), χ² with n − 1 degrees of freedom."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    n = x.size
+    if n < 2:
+        raise ValueError("a ratio fit needs at least two trials")
+    if not (math.isfinite(sigma_x) and sigma_x > 0):
+        raise ValueError("sigma_x must be positive and finite")
+    sx2 = sigma_x**2
+
+    def var_y(c: float) -> float:
+        if sigma is not None:
+            return float(sigma) ** 2
+        return max(float(np.sum((y - c * x) ** 2)) / (n - 1) - c * c * sx2, 0.0)
+
+    c = float(np.sum(x * y) / np.sum(x * x))  # the fit that ignores σₓ, as a start
+    sy2 = var_y(c)
+    steps = 0
+    while sy2 + c * c * sx2 > 0:
+        steps += 1
+        W = 1.0 / (sy2 + c * c * sx2)
+        beta = W * (sy2 * x + c * sx2 * y)
+        c_new = float(np.sum(W * beta * y) / np.sum(W * beta * x))
+        sy2 = var_y(c_new)
+        if abs(c_new - c) <= YORK_TOL * max(abs(c_new), 1e-300):
+            c = c_new
+            break
+        c = c_new
+        if steps >= YORK_MAX_ITER:
+            raise ArithmeticError(f"the errors-in-both fit did not converge in {YORK_MAX_ITER} iterations")
+    v = sy2 + c * c * sx2
+    r = y - c * x
+    ll = {Noise.CONSTANT.value: _loglik(x, y, Noise.CONSTANT)}  # the one noise model considered (on y alone)
+    if v <= 0:  # every trial exactly on the line and no noise to estimate: nothing uncertain to report
+        return RatioFit(c, 0.0, (c, c), Noise.CONSTANT, 0.0, n - 1, float(special.stdtrit(n - 1, 0.975)),
+                        tuple(map(float, np.full(n, math.inf))), tuple(map(float, r)), ll, sigma_x=float(sigma_x),
+                        sigma_y=0.0, iterations=steps)
+
+    given = sigma is not None
+    # σ given: S is χ²; estimated: the common scale of σ and σₓ, S(ĉ)/(n − 1) (1 unless σ² was floored at 0)
+    scale = 1.0 if given else max(float(np.sum(r * r)) / v / (n - 1), 1e-300)
+
+    def S(cc: float) -> float:
+        den = (sy2 + cc * cc * sx2) * scale
+        return float(np.sum((y - cc * x) ** 2)) / den if den > 0 else 1e300  # c = 0 with σ = 0: nothing fits
+
+    # S″ of Σ rᵢ²/v, r = y − c x, v = σ² + c²σₓ²
+    d2 = float(np.sum(2 * x * x / v + 8 * sx2 * c * x * r / v**2 - 2 * sx2 * r * r / v**2
+                      + 8 * sx2 * sx2 * c * c * r * r / v**3)) / scale
+    se = math.sqrt(2.0 / d2) if d2 > 0 else math.sqrt(v * scale / float(np.sum(x * x)))
+    quant = float(special.ndtri(0.975)) if given else float(special.stdtrit(n - 1, 0.975))
+    chi2 = S(c) if given else None
+    return RatioFit(c, se, (c - quant * se, c + quant * se), Noise.GIVEN if given else Noise.CONSTANT,
+                    math.sqrt(sy2), n - 1, quant, tuple(map(float, x * x / v)), tuple(map(float, r)), ll,
+                    chi2, None if chi2 is None else float(stats.chi2.sf(chi2, n - 1)), float(sigma_x),
+                    math.sqrt(sy2), steps, math.sqrt(scale), S)
+
+
+@dataclass(frozen=True)
+class BoundedInterval:
+    """The estimate of a bounded c and its 95 % interval: ``value`` is ĉ cut to the admissible range (the maximum
+    of the likelihood there), ``reaches`` the bound ("lower" / "upper") the interval ends on, if any."""
+
+    value: float
+    ci95: tuple[float, float]
+    reaches: str | None  # "lower", "upper", "both" or None
+    cut: tuple[float, float]  # the deviance cut at the interval's two ends (3.84 far from a bound, normal)
+
+
+_STEPS = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 6.0, 10.0, 30.0, 100.0, 1e3, 1e4, 1e6)  # in standard errors
+
+
+def bounded_interval(fr: RatioFit, lo: float = 0.0, hi: float = 1.0, level: float = 0.95) -> BoundedInterval:
+    """The ``level`` interval of c ∈ [lo, hi]: the admissible c whose deviance from the bounded maximum,
+    D(c) = S(c) − S(c̃), lies below the cut k(c) that gives the likelihood-ratio ordering probability ``level``
+    (Feldman & Cousins 1998, the unified approach, for a normal estimate: exact with σ given; with the scale
+    estimated, Student's t with the fit's degrees of freedom and the bound's distance in estimated standard errors).
+    Far from the bounds k = z² (3.84, or t²) and the interval is the profile likelihood's; when the data lie at or
+    past a bound the interval ends on it, [lo′, 1], never empty and never a Wald interval cut short."""
+    c_best = min(max(fr.value, lo), hi)
+    se = fr.stderr
+    if not (math.isfinite(se) and se > 0):
+        return BoundedInterval(c_best, (c_best, c_best), None, (0.0, 0.0))
+    if fr.noise is Noise.GIVEN:
+        def cdf(t: float) -> float:
+            return float(special.ndtr(t))
+    else:
+        def cdf(t: float) -> float:
+            return float(special.stdtr(fr.dof, t))
+    q = fr.quantile
+    d_best = fr.deviance(c_best)
+
+    def cut(c0: float) -> float:
+        d0, d1 = (c0 - lo) / se, (hi - c0) / se
+        if d0 >= q and d1 >= q:
+            return q * q
+
+        def ext(k: float, d: float) -> float:  # how far the accepted estimates reach towards a bound d away
+            rk = math.sqrt(k)
+            return rk if d >= rk else (math.inf if d <= 0 else (k + d * d) / (2 * d))
+
+        return float(optimize.brentq(lambda k: cdf(ext(k, d1)) - cdf(-ext(k, d0)) - level, 0.0, q * q,
+                                     xtol=1e-12))
+
+    def g(c: float) -> float:
+        return fr.deviance(c) - d_best - cut(c)
+
+    ends, reached, cuts = [], [], []
+    for sign, bound, name in ((-1.0, lo, "lower"), (1.0, hi, "upper")):
+        prev, end = c_best, bound
+        for m in (*_STEPS, math.inf):
+            c = c_best + sign * m * se
+            if sign * (c - bound) >= 0:
+                c = bound
+            if c != prev and g(c) > 0:
+                a, b = sorted((prev, c))
+                end = float(optimize.brentq(g, a, b, xtol=1e-10 * se))
+                break
+            if c == bound:
+                reached.append(name)
+                break
+            prev = c
+        ends.append(end)
+        cuts.append(cut(end))
+    reaches = None if not reached else (reached[0] if len(reached) == 1 else "both")
+    return BoundedInterval(c_best, (ends[0], ends[1]), reaches, (cuts[0], cuts[1]))
 
 
 @dataclass(frozen=True)

@@ -27,12 +27,13 @@ UNITS_HELP = ("A header may carry a unit: V0_mps, V0_cmps, V0_kmph, h0_mm, h0_cm
 
 KINDS: dict[str, Kind] = {k.name: k for k in (
     Kind("rebound", "e and ε from rebounds on an immovable mass, §I eq. (9): speeds or heights",
-         f"{_SPEEDS}. Or {_HEIGHTS}.", "rebound.csv", ("sigma", "noise", "speeds", "g", "bootstrap")),
+         f"{_SPEEDS}. Or {_HEIGHTS}.", "rebound.csv",
+         ("sigma", "sigma_in", "noise", "speeds", "g", "bootstrap")),
     Kind("cushion", "e and ε from perpendicular cushion rebounds, beside Coriolis's 0.55 and today's e",
-         f"{_SPEEDS}.", "cushion.csv", ("sigma", "noise", "speeds", "bootstrap")),
+         f"{_SPEEDS}.", "cushion.csv", ("sigma", "sigma_in", "noise", "speeds", "bootstrap")),
     Kind("drop", "e and ε from a ball dropped on a slab: drop and rebound heights (or speeds)",
          f"{_HEIGHTS}; or speeds just before and after the impact ({_SPEEDS}).", "drop.csv",
-         ("sigma", "noise", "speeds", "g", "bootstrap")),
+         ("sigma", "sigma_in", "noise", "speeds", "g", "bootstrap")),
     Kind("pendulum", "ε, ε′ and e from two-pendulum impacts, §I eqs (8); momentum checked per trial",
          "V0,V1,V1p: signed velocities (m/s) of the striker before the impact and of striker and struck body "
          "after it (the struck body at rest before); or h0,h1,h1p: the striker's release height and the rise heights "

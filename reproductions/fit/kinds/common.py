@@ -29,6 +29,7 @@ class FitOptions:
     """The command line's options, in SI where they carry a unit (``sigma`` stays in the data's unit)."""
 
     sigma: float | None = None
+    sigma_in: float | None = None  # rebound: σ of the impact (V0 or h0), in its column's unit; errors in both
     noise: Noise = Noise.AUTO
     speeds: str | None = None  # "signed" | "unsigned" | None (the header says)
     M: float | None = None

@@ -4,7 +4,9 @@ The struck body hangs at rest; per trial the striker's speed V0 before and both 
 along the striker's motion) are measured, with the masses M (striker) and M′ (struck). Eqs (8) give
 V1 = V0 − 2M′V0/D and V1′ = 2MV0/D, D = M′(1 + ε) + M(1 + ε′): with one mass ratio only D is determined (rank 1,
 reported as such); two or more mass ratios separate ε and ε′. Newton's e = (V1′ − V1)/V0 is model-free, per
-trial, and averaged per mass ratio. Every trial must keep momentum within its noise (``series``).
+trial, and averaged per mass ratio. Every trial must keep momentum within its noise (``series``). The fit checks
+itself (``fit.checks``): χ² against a given σ or the scatter against a plausible one, each trial's two speeds
+predicted from the other trials (leave-one-out), and the masses' and speeds' plausible ranges.
 """
 
 from __future__ import annotations
@@ -19,14 +21,24 @@ from ...errors import InputError
 from ...mechanics import impact
 from ...results import FigureSpec, layer
 from ...series import Series, check_pendulum_trials, header_names, read_series
-from ..checks import Code, warn
-from ..estimators.lsq import FitResult, fit_direct_impact
+from ..checks import (
+    PLAUSIBLE,
+    Code,
+    leave_one_out,
+    loo_entries,
+    name_outliers,
+    noise_plausible,
+    plausible_columns,
+    warn,
+)
+from ..estimators.lsq import FitResult, fit_direct_impact, numeric_jacobian
 from ..estimators.trials import bootstrap, with_estimated_scale
 from .common import (
     BOOT_NOTE,
     MIN_BOOT_TRIALS,
     FitOptions,
     FitOutcome,
+    G,
     base_summary,
     check_sigma,
     columns_read,
@@ -51,6 +63,9 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         s = read_series(path, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=2, positive=("V0", "M", "Mp"),
                         dims=DIMS)
     n = len(s.lines)
+    if not heights and opts.g != G:
+        raise InputError(f"--g {opts.g:g}", "the file gives speeds, and g serves only to turn release and rise "
+                                            "heights into speeds: leave --g out")
     for name, col, opt in (("striking", "M", opts.M), ("struck", "Mp", opts.Mp)):
         if col not in s and opt is None:
             raise InputError(str(path), f"no {name} mass: give a column {col} (kg, or {col}_g) or --{col} on the "
@@ -150,6 +165,7 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         if p_chi2 < 0.01:
             warn(summary, Code.CHI2, f"the scatter exceeds the given σ: reduced χ² = {chi2 / fit.dof:.3g} "
                                        f"(p = {p_chi2:.2g}); the intervals from σ are too narrow")
+    _check_fit(summary, s, opts, fit, (M, Mp, V0, V1, V1p), sigma, sigma_in is not None, heights)
     imbalance = M * V0 - M * V1 - Mp * V1p
     if backwards.any():
         warn(summary, Code.ASSUMED, f"the striker's rise heights give no direction: in {int(backwards.sum())} of {n} "
@@ -185,6 +201,52 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                       layer("points", V0, pred.V1p - V1p, color="C1", marker="s", label="V1′"),
                       layer("line", [0.0, float(V0.max())], [0.0, 0.0], color="0.4", style=":")))
     return FitOutcome(summary, (fig, res), headers, rows)
+
+
+NOISE_REL_LIMIT = 0.25  # a scatter of the speeds after the impact beyond 25 % of their size is no measurement
+NOISE_FLOOR = 0.1  # … of their size, or of a tenth of the impact speed when they are slower
+
+
+def _check_fit(summary: dict, s: Series, opts: FitOptions, fit: FitResult, data: tuple[np.ndarray, ...],
+               sigma: np.ndarray | float | None, sigma_given: bool, heights: bool) -> None:
+    """The fit checks itself (``fit.checks``): each trial's V1 and V1′ predicted from the other trials (the
+    linearised deleted residuals, both speeds of a trial left out together), the scatter against a plausible one
+    when it is estimated, and the masses' and impact speeds' plausible ranges."""
+    M, Mp, V0, V1, V1p = data
+    n = V0.size
+
+    def predict(theta: np.ndarray) -> np.ndarray:
+        out = impact.direct_impact(M, Mp, V0, 0.0, eps=theta[0], epsp=theta[1])
+        return np.concatenate([out.V1, out.V1p])
+
+    measured = np.concatenate([V1, V1p])
+    sd = np.broadcast_to(np.asarray(1.0 if sigma is None else sigma, dtype=float), measured.shape)
+    r = (measured - predict(np.asarray(fit.point))) / sd
+    J = numeric_jacobian(predict, fit.point) / sd[:, None]
+    lines = np.asarray(s.lines)
+    groups = np.concatenate([lines, lines])
+    # a σ that the scatter contradicts (χ² p < 1 %) is not used: the scale is then estimated
+    held = sigma_given and not any(w["code"] == Code.CHI2.value for w in summary["warnings"])
+    loo = leave_one_out(r, J, groups, sigma_known=held)
+    entries = loo_entries(loo, groups, ["V1"] * n + ["V1p"] * n, measured, sd)
+    for e in entries:
+        e["unit"] = "m/s"
+    summary["leave_one_out"] = sorted(entries, key=lambda e: e["line"])
+    name_outliers(summary, lines, loo["p"], "trial")
+    if not sigma_given and fit.dof > 0:
+        res = measured - predict(np.asarray(fit.point))
+        size = max(float(np.median(np.maximum(np.abs(V1), np.abs(V1p)))), NOISE_FLOOR * float(np.median(V0)))
+        noise_plausible(summary, math.sqrt(float(res @ res) / fit.dof), NOISE_REL_LIMIT * size,
+                        "the speeds after the impact (V1, V1′)", "m/s")
+    cols = {"M": "mass", "Mp": "mass", ("h0" if heights else "V0"): "drop-height" if heights else "pendulum-speed"}
+    for msg in plausible_columns(s, cols, DIMS_H if heights else DIMS):
+        warn(summary, Code.UNIT, msg)
+    rng = PLAUSIBLE["mass"]
+    for name, value in (("M", opts.M), ("Mp", opts.Mp)):
+        if value is not None and not rng.low <= value <= rng.high:
+            hint = "; in g it would be plausible (--{name} takes kg)" if rng.low <= value * 1e-3 <= rng.high else ""
+            warn(summary, Code.UNIT, f"--{name} {value:g} kg is outside {rng.low:g}–{rng.high:g} kg, {rng.what}"
+                                     f"{hint.format(name=name)}")
 
 
 def _fit(M: np.ndarray, Mp: np.ndarray, V0: np.ndarray, V1: np.ndarray, V1p: np.ndarray,
