@@ -375,6 +375,10 @@ def _fit_options() -> dict[str, tuple[Any, Any]]:
         "sigma_dir": (Annotated[float | None, typer.Option(
             "--sigma-dir", parser=_positive("--sigma-dir", "a standard deviation of an angle"),
             help="ball-ball: known standard deviation of the measured directions, in their column's unit")], None),
+        "max_seconds": (Annotated[float, typer.Option(
+            "--max-seconds", parser=_positive("--max-seconds", "a time in seconds"),
+            help="bound on the fit's wall-clock time, its refits included: past it the fit stops with a message "
+                 "(exit 1) and writes nothing")], 120.0),
         "bootstrap": (Annotated[int, typer.Option(
             "--bootstrap", parser=_count("--bootstrap", 0, fitkinds.MAX_RESAMPLES, "a number of resamples"),
             help="bootstrap resamples, each refitted (0: none)")], 1000),
@@ -444,11 +448,20 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
     noise = Noise(kw.pop("noise", "auto"))
     try:
         _check_fit_out(out, csv_file)
-        with Progress(TextColumn("bootstrap"), BarColumn(), MofNCompleteColumn(), console=err_console,
-                      transient=True, disable=not err_console.is_terminal or resamples == 0) as bar:
-            task = bar.add_task("bootstrap", total=resamples)
-            opts = FitOptions(noise=noise, resamples=resamples, seed=seed,
-                              progress=lambda k: bar.update(task, completed=k), **kw)
+        with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), console=err_console,
+                      transient=True, disable=not err_console.is_terminal) as bar:
+            task = bar.add_task("bootstrap" if resamples else "fit", total=resamples or None)
+
+            class _Bar:
+                """The bar's progress; its label follows the fit's stage (fit, conventions, bootstrap …)."""
+
+                def __call__(self, done: int) -> None:
+                    bar.update(task, completed=done)
+
+                def stage(self, what: str, total: int) -> None:
+                    bar.update(task, description=what, total=total, completed=0)
+
+            opts = FitOptions(noise=noise, resamples=resamples, seed=seed, progress=_Bar(), **kw)
             outcome = fit_csv(name, csv_file, opts)
         outcome.summary["provenance"] = provenance(csv_file, opts)
         folder = write_fit(outcome, out, plot=plot)

@@ -9,9 +9,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from reproductions.fitting import synthetic_bounces
-from reproductions.fitting_ballball import synthetic_shots
 
+from reproductions.fit.estimators.lsq import synthetic_bounces
+from reproductions.fit.estimators.shots import synthetic_shots
 from reproductions.mechanics import impact, plane
 
 HERE = Path(__file__).resolve().parent

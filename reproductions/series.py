@@ -85,13 +85,16 @@ class Series(dict):
 
 def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = (), min_rows: int = 1,
                 positive: Sequence[str] = (), dims: dict[str, str] | None = None,
-                nonnegative: Sequence[str] = ()) -> Series:
+                nonnegative: Sequence[str] = (), blank: Sequence[str] = ()) -> Series:
     """A measurement series from a CSV file with a header; every bad row is reported as file:line. Lines that
     are empty or start with ``#`` are skipped (before the header too); a UTF-8 byte-order mark is accepted.
 
     With ``dims`` (column → dimension, a key of ``UNITS``) a header may carry a unit, ``V0_mps``, ``h0_mm``,
     ``t_ms``: the values are converted to SI and ``units`` records, per column, the unit as written (None: no
-    unit, read in SI). A unit unknown, or of another dimension, is refused at the header."""
+    unit, read in SI). A unit unknown, or of another dimension, is refused at the header.
+
+    In the columns named in ``blank`` an empty cell means "not measured" and is read as NaN (never 0); in the
+    others it is refused like any cell that is not a number."""
     where = str(path)
     try:
         text = path.read_text(encoding="utf-8-sig")
@@ -125,6 +128,9 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
             raise InputError(f"{where}:{line_no}", f"expected {len(header)} values, got {len(cells)}")
         for j, (h, w, cell) in enumerate(zip(header, written, cells, strict=True)):
             col = f"column '{w}' (#{j + 1})" if len(header) > 1 else f"column '{w}'"
+            if not cell and h in blank:
+                data[h].append(math.nan)
+                continue
             try:
                 v = float(cell)
             except ValueError:

@@ -136,6 +136,23 @@ def test_inconsistent_inputs_are_refused():
         fb.predict_shots(1.0, math.pi / 2, f_bb=0.1, e=0.9, R=R)
 
 
+def test_a_blank_value_weighs_nothing():
+    """With σ given, the optimum with some values not measured is also the optimum when those values are filled in
+    with their predictions there: they add no residual and no gradient (their rows are masked, not zero)."""
+    cols = fb.synthetic_shots(np.random.default_rng(5), 12, R=R)
+    holes = {"cue_dir": [0, 3], "obj_speed": [5], "cue_speed": [7, 8]}
+    for c, i in holes.items():
+        cols[c][i] = np.nan
+    kw = {"R": R, "sigma_speed": 0.02, "sigma_dir": math.radians(0.5)}
+    fit = fb.fit_columns(cols, **kw)
+    assert fit.n_data == 48 - 5 and fit.n_speed == 21 and fit.n_dir == 22
+    p = fb.predict_shots(cols["v"], cols["phi"], f_bb=fit.point[0], e=fit.point[1], R=R)
+    filled = {**cols, **{c: np.where(np.isnan(cols[c]), getattr(p, c), cols[c]) for c in holes}}
+    again = fb.fit_columns(filled, **kw, x0=(0.2, 0.7))
+    assert again.point == pytest.approx(fit.point, abs=1e-7)  # the optimiser stops within 1e-9; 100× margin
+    assert again.chi2 == pytest.approx(fit.chi2, rel=1e-6)
+
+
 SEEDS = 400
 
 

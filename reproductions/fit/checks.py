@@ -54,9 +54,11 @@ def warn(summary: dict[str, Any], code: Code, message: str) -> None:
 
 
 def finish(summary: dict[str, Any]) -> None:
-    """The checks every kind shares, run on its summary: an estimate that ended on a bound of its range."""
+    """The checks every kind shares, run on its summary: an estimate that ended on a bound of its range, unless
+    its interval is a profile likelihood's with the bound (then the bound is one of the values the data allow, as
+    e = 1 is for a series at e = 0.995; a series far beyond the bound is a kind's own finding, a convention)."""
     for f in summary["fits"]:
-        if f.get("at_bound"):
+        if f.get("at_bound") and not f.get("bound_aware"):
             warn(summary, Code.AT_BOUND, f"{f['parameter']} ended on the {f['at_bound']} bound of its admissible "
                                          "range: the data fit best at or beyond its edge (check the data, their signs "
                                          "and units)")

@@ -31,30 +31,41 @@ Noise. Outcome speeds and directions are measured with different noises; v and �
 errors are relative by default (residual ln(predicted/measured), σ a fraction) or absolute (m/s); direction
 errors absolute (rad). Without given σ, one σ per kind is estimated from the residuals, with the degrees of freedom
 each kind uses (the leverages of its rows), by iterated reweighting; the final report takes the residuals scaled
-by those σ with noise estimated from them (Student's t, m − 2 degrees of freedom).
+by those σ with noise estimated from them (Student's t, m − 2 degrees of freedom). Any outcome may be missing (NaN:
+not measured, e.g. a published table of speeds without directions): its residual row is masked out (it weighs
+nothing and counts in no degree of freedom); the speeds alone determine (f_bb, e) (rank 2), and so do the
+directions alone.
+
+e's interval. e lies in [0, 1] and ball–ball impacts have e = 0.92–0.98, so its 95 % interval is the profile
+likelihood's with that bound (``_profile_e``, with ``fit_many(profile=True)``): the e at which the fit, f
+re-minimised, is worse by the cut, χ²₁'s 3.84 for a given σ, or, each kind's noise profiled out, a cut calibrated
+on the t/F distributions of the kinds' own scale estimates (``_profile_cut``); not a Wald interval cut at 1.
 
 Solver. The point is found by Levenberg–Marquardt run on many data sets at once (``fit_many``: one batched
 prediction per iteration); the report is ``fitting.analyse`` at that point, the code ``least_squares_fit`` reports
 with (the test checks the point and errors against ``least_squares_fit``), which is called itself where the rank is
-short (it then moves to the canonical point of the family).
+short (it then moves to the canonical point of the family). Every loop has an iteration cap and a convergence test,
+and a ``deadline`` bounds the whole in wall-clock time (``OverBudget``).
 """
 
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, fields
-from typing import Literal
+from dataclasses import dataclass, fields, replace
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy import special, stats
 
-from ...errors import InputError
+from ...errors import ComputationError, InputError
 from ...mechanics import cloth, impact, spheres
 from .lsq import FitResult, analyse, least_squares_fit
 
-__all__ = ["BallBallFit", "ShotPrediction", "ShotResiduals", "fit_columns", "fit_many", "fit_shots", "predict_shots",
-           "shot_residuals", "synthetic_shots"]
+__all__ = ["QUANTITIES", "BallBallFit", "OverBudget", "ShotPrediction", "ShotResiduals", "WeightedRows", "fit_columns",
+           "fit_many", "fit_shots", "predict_shots", "shot_residuals", "synthetic_shots", "weighted_rows"]
 
 NAMES = ("f_bb", "e")
 BOUNDS = ((0.0, 0.0), (1.0, 1.0))
@@ -126,7 +137,7 @@ def predict_shots(v: ArrayLike, phi: ArrayLike, *, f_bb: ArrayLike, e: ArrayLike
 class ShotResiduals:
     """Predicted minus measured per shot: speeds in m/s, directions in rad (wrapped to (−π, π]); ``scaled`` is
     the (4, n) array the fit weighs (rows cue speed, cue direction, object speed, object direction), in units of
-    σ when σ are given: relative speeds as ln(predicted/measured)."""
+    σ when σ are given: relative speeds as ln(predicted/measured). NaN where the quantity was not measured."""
 
     cue_speed: np.ndarray
     cue_dir: np.ndarray
@@ -136,7 +147,8 @@ class ShotResiduals:
 
 
 def _raw(pred: ShotPrediction, obs: np.ndarray, speed_noise: SpeedNoise) -> np.ndarray:
-    """(4, n) residuals before division by σ: speeds relative (log) or absolute, directions wrapped."""
+    """(4, n) residuals before division by σ: speeds relative (log) or absolute, directions wrapped (NaN where
+    ``obs`` is NaN: not measured)."""
     p = np.stack([pred.cue_speed, pred.cue_dir, pred.obj_speed, pred.obj_dir])
     r = p - obs
     if speed_noise == "relative":
@@ -155,35 +167,69 @@ def shot_residuals(theta: tuple[float, float], v: ArrayLike, phi: ArrayLike, cue
     d = np.stack([pred.cue_speed, pred.cue_dir, pred.obj_speed, pred.obj_dir]) - obs
     d[[1, 3]] = _wrap(d[[1, 3]])
     scaled = _raw(pred, obs, speed_noise)
-    if sigma_speed is not None and sigma_dir is not None:
-        scaled = scaled / np.array([sigma_speed, sigma_dir, sigma_speed, sigma_dir])[:, None]
+    if sigma_speed is not None or sigma_dir is not None:
+        sig = [1.0 if s is None else s for s in (sigma_speed, sigma_dir)]
+        scaled = scaled / np.array([sig[0], sig[1], sig[0], sig[1]])[:, None]
     return ShotResiduals(d[0], d[1], d[2], d[3], scaled)
 
 
 def _columns(v: ArrayLike, phi: ArrayLike, cue_speed: ArrayLike, cue_dir: ArrayLike, obj_speed: ArrayLike,
              obj_dir: ArrayLike, speed_noise: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """v, φ and the (4, n) outcomes (cue speed, cue direction, object speed, object direction); an outcome may be
+    NaN (not measured), v and φ may not, and every shot must measure something."""
     cols = [np.asarray(c, dtype=float).ravel() for c in (v, phi, cue_speed, cue_dir, obj_speed, obj_dir)]
     n = cols[0].size
     if any(c.size != n for c in cols):
         raise InputError("fit_shots", "v, phi and the four measured columns must have one value per shot")
-    if not all(np.all(np.isfinite(c)) for c in cols):
-        raise InputError("fit_shots", "every value must be finite")
+    if not (np.all(np.isfinite(cols[0])) and np.all(np.isfinite(cols[1]))):
+        raise InputError("fit_shots", "v and phi must be finite in every shot")
+    obs = np.stack(cols[2:])
+    if np.any(np.isinf(obs)):
+        raise InputError("fit_shots", "a measured outcome must be finite (NaN: not measured)")
+    none = np.flatnonzero(~np.isfinite(obs).any(axis=0))
+    if none.size:
+        raise InputError("fit_shots", f"shot {int(none[0])} has no measured outcome")
     if speed_noise not in ("relative", "absolute"):
         raise InputError("fit_shots", f"speed_noise must be 'relative' or 'absolute', got {speed_noise!r}")
     if speed_noise == "relative" and (np.any(cols[2] <= 0) or np.any(cols[4] <= 0)):
         raise InputError("fit_shots", "relative speed errors need measured speeds > 0")
-    return cols[0], cols[1], np.stack(cols[2:])
+    return cols[0], cols[1], obs
+
+
+class OverBudget(ComputationError):
+    """The fit ran past its wall-clock bound (``deadline``); whoever called says what was being fitted."""
+
+    def __reduce__(self) -> tuple[type, tuple[str, str]]:
+        return (OverBudget, (self.where, self.message))
+
+
+def _stencil(x: np.ndarray) -> np.ndarray:
+    """Per parameter value, the shift of the central-difference stencil: −1 or +1 where x ± h leaves [0, 1]."""
+    return np.where(x + JAC_STEP > 1.0, -1.0, np.where(x - JAC_STEP < 0.0, 1.0, 0.0))
+
+
+def _derivative(r0: np.ndarray, lo: np.ndarray, hi: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """d r/dx from r at x, x + (s − 1) h and x + (s + 1) h: central, or one-sided of second order at a bound."""
+    c = s[:, None]
+    central = (hi - lo) / (2 * JAC_STEP)
+    fwd = (-3 * r0 + 4 * hi - lo) / (2 * JAC_STEP)  # s = +1: points x, x + 2h
+    bwd = (3 * r0 - 4 * lo + hi) / (2 * JAC_STEP)  # s = −1: points x − 2h, x
+    return np.where(c > 0, fwd, np.where(c < 0, bwd, central))
 
 
 class _Shots:
     """D data sets of n shots each, evaluated together: one batched prediction gives, for every data set, the raw
     residuals at its θ and the finite-difference Jacobian there (``two_spheres`` costs about as much for a few
-    scenes as for a few hundred). Per data set, the last evaluations are memoised for ``fitting.analyse``."""
+    scenes as for a few hundred). Per data set, the last evaluations are memoised for ``fitting.analyse``.
+    Outcomes not measured (NaN) give residual rows of 0 (and Jacobian rows of 0): they weigh nothing.
+    Past ``deadline`` (``time.monotonic``) every evaluation raises ``OverBudget``."""
 
     def __init__(self, v: np.ndarray, phi: np.ndarray, obs: np.ndarray, R: float, k: float, M: float,
-                 speed_noise: SpeedNoise) -> None:
+                 speed_noise: SpeedNoise, deadline: float | None = None) -> None:
         self.v, self.phi, self.obs, self.R, self.k, self.M, self.noise = v, phi, obs, R, k, M, speed_noise
         self.D, self.n = v.shape
+        self.mask = np.isfinite(obs).reshape(self.D, 4 * self.n)  # rows: cue speed, cue dir, obj speed, obj dir
+        self.deadline = deadline
         self.memo: list[dict[bytes, tuple[np.ndarray, np.ndarray, np.ndarray]]] = [{} for _ in range(self.D)]
 
     def eval(self, theta: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -196,46 +242,57 @@ class _Shots:
         got = [self.memo[d][theta[i].tobytes()] for i, d in enumerate(idx)]
         return tuple(np.array([g[j] for g in got]) for j in range(3))  # type: ignore[return-value]
 
+    def points(self, P: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, ShotPrediction]:
+        """Raw residuals (m, K, 4n), 0 where not measured, of data sets ``idx`` (m) at K points each, P (m, K, 2)."""
+        if self.deadline is not None and time.monotonic() > self.deadline:
+            raise OverBudget("fit_shots", "over its time bound")
+        m, K, n = len(idx), P.shape[1], self.n
+        shape = (m, K, n)
+        pred = predict_shots(np.broadcast_to(self.v[idx][:, None], shape), np.broadcast_to(self.phi[idx][:, None],
+                             shape), f_bb=np.broadcast_to(P[..., 0:1], shape), e=np.broadcast_to(P[..., 1:2], shape),
+                             R=self.R, k=self.k, M=self.M)
+        obs = np.broadcast_to(self.obs[idx][:, None], (m, K, 4, n)).transpose(2, 0, 1, 3)  # (4, m, K, n)
+        r = _raw(pred, obs, self.noise).transpose(1, 2, 0, 3).reshape(m, K, 4 * n)
+        return np.where(self.mask[idx][:, None, :], r, 0.0), pred
+
     def _compute(self, theta: np.ndarray, idx: np.ndarray) -> None:
         m, n = len(idx), self.n
         # central differences, the stencil shifted inside [0, 1] at a bound: points θ + (s ∓ 1) h e_j
-        s = np.where(theta + JAC_STEP > 1.0, -1.0, np.where(theta - JAC_STEP < 0.0, 1.0, 0.0))  # (m, 2)
+        s = _stencil(theta)  # (m, 2)
         pts = [theta]
         for j in range(2):
             for d in (-1.0, 1.0):
                 p = theta.copy()
                 p[:, j] += (s[:, j] + d) * JAC_STEP
                 pts.append(p)
-        P = np.stack(pts, axis=1)  # (m, 5, 2)
-        shape = (m, 5, n)
-        pred = predict_shots(np.broadcast_to(self.v[idx][:, None], shape), np.broadcast_to(self.phi[idx][:, None],
-                             shape), f_bb=np.broadcast_to(P[..., 0:1], shape), e=np.broadcast_to(P[..., 1:2], shape),
-                             R=self.R, k=self.k, M=self.M)
-        obs = np.broadcast_to(self.obs[idx][:, None], (m, 5, 4, n)).transpose(2, 0, 1, 3)  # (4, m, 5, n)
-        r = _raw(pred, obs, self.noise).transpose(1, 2, 0, 3).reshape(m, 5, 4 * n)
+        r, pred = self.points(np.stack(pts, axis=1), idx)  # (m, 5, 4n)
         J = np.empty((m, 4 * n, 2))
         for j in range(2):
-            lo, hi = r[:, 1 + 2 * j], r[:, 2 + 2 * j]  # at θ + (s − 1) h and θ + (s + 1) h
-            c = s[:, j][:, None]
-            central = (hi - lo) / (2 * JAC_STEP)
-            fwd = (-3 * r[:, 0] + 4 * hi - lo) / (2 * JAC_STEP)  # s = +1: points θ, θ + 2h
-            bwd = (3 * r[:, 0] - 4 * lo + hi) / (2 * JAC_STEP)  # s = −1: points θ − 2h, θ
-            J[:, :, j] = np.where(c > 0, fwd, np.where(c < 0, bwd, central))
+            J[:, :, j] = _derivative(r[:, 0], r[:, 1 + 2 * j], r[:, 2 + 2 * j], s[:, j])
         for i, d in enumerate(idx):
             if len(self.memo[d]) > 32:
                 self.memo[d].clear()
             self.memo[d][theta[i].tobytes()] = (r[i, 0], J[i], pred.regime[i, 0].copy())
 
+    def along_f(self, f: np.ndarray, e: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Raw residuals (m, 4n) of data sets ``idx`` at (f, e) and their derivative in f (e held)."""
+        s = _stencil(f)
+        F = np.stack([f, f + (s - 1) * JAC_STEP, f + (s + 1) * JAC_STEP], axis=1)
+        r, _ = self.points(np.stack([F, np.broadcast_to(e[:, None], F.shape)], axis=-1), idx)
+        return r[:, 0], _derivative(r[:, 0], r[:, 1], r[:, 2], s)
+
     def functions(self, d: int, w: np.ndarray | None = None) -> tuple[Callable[[np.ndarray], np.ndarray],
                                                                       Callable[[np.ndarray], np.ndarray]]:
-        """Residuals and Jacobian of data set d (times the weights w, if given) for ``fitting``."""
+        """Residuals and Jacobian of data set d (times the weights w, if given), its measured rows only, for
+        ``fitting``."""
         scale = np.ones(4 * self.n) if w is None else w
+        keep = self.mask[d]
 
         def res(theta: np.ndarray) -> np.ndarray:
-            return self.eval(theta, np.array([d]))[0][0] * scale
+            return (self.eval(theta, np.array([d]))[0][0] * scale)[keep]
 
         def jac(theta: np.ndarray) -> np.ndarray:
-            return self.eval(theta, np.array([d]))[1][0] * scale[:, None]
+            return (self.eval(theta, np.array([d]))[1][0] * scale[:, None])[keep]
 
         return res, jac
 
@@ -248,7 +305,8 @@ LM_FTOL = 1e-12  # or an accepted one lowers the cost by less than this fraction
 
 def _solve(shots: _Shots, x0: np.ndarray, w: np.ndarray, idx: np.ndarray) -> np.ndarray:
     """Minimise Σ (w r)² over θ ∈ [0, 1]² for the data sets ``idx`` together: Levenberg–Marquardt with the step
-    projected on the box, one batched prediction per iteration (the trial points of all data sets at once)."""
+    projected on the box, one batched prediction per iteration (the trial points of all data sets at once); at
+    most ``LM_MAXITER`` iterations, each testing convergence."""
     x = np.array(x0, dtype=float)
     r, J, _ = shots.eval(x, idx)
     r, J = r * w, J * w[..., None]
@@ -292,18 +350,29 @@ def _shares(Jw: np.ndarray, n: int) -> tuple[tuple[float, ...], tuple[float, ...
     return out[0], out[1]
 
 
-def _kind_sigmas(r: np.ndarray, Jw: np.ndarray, n: int, floor: float) -> np.ndarray:
+KIND_ROWS = ([0, 2], [1, 3])  # the residual rows of each kind of measurement: speeds, directions
+
+
+def _kind_counts(mask: np.ndarray, n: int) -> np.ndarray:
+    """(D, 2) number of measured values per kind (speeds, directions) from the (D, 4n) mask."""
+    mk = mask.reshape(-1, 4, n)
+    return np.stack([mk[:, rows].sum(axis=(1, 2)) for rows in KIND_ROWS], axis=1)
+
+
+def _kind_sigmas(r: np.ndarray, Jw: np.ndarray, mask: np.ndarray, n: int, floor: np.ndarray) -> np.ndarray:
     """One σ per kind (speeds: rows 0 and 2; directions: 1 and 3) from raw residuals r (D, 4n), each over its
-    degrees of freedom: its 2n rows minus the sum of their leverages (the hat matrix of the weighted J, (D, 4n, 2)).
-    Returns (D, 2)."""
+    degrees of freedom: its measured rows minus the sum of their leverages (the hat matrix of the weighted J,
+    (D, 4n, 2)). A kind not measured gets 1 (it weighs nothing). Returns (D, 2)."""
     Q, _ = np.linalg.qr(Jw)
     lev = (Q**2).sum(axis=2).reshape(-1, 4, n)
     rr = (r**2).reshape(-1, 4, n)
+    counts = _kind_counts(mask, n)
     out = []
-    for rows in ([0, 2], [1, 3]):
-        dof = np.maximum(2 * n - lev[:, rows].sum(axis=(1, 2)), 1e-12)
-        out.append(np.sqrt(rr[:, rows].sum(axis=(1, 2)) / dof))
-    return np.maximum(np.stack(out, axis=1), floor)
+    for j, rows in enumerate(KIND_ROWS):
+        dof = np.maximum(counts[:, j] - lev[:, rows].sum(axis=(1, 2)), 1e-12)
+        sig = np.maximum(np.sqrt(rr[:, rows].sum(axis=(1, 2)) / dof), floor[:, j])
+        out.append(np.where(counts[:, j] > 0, sig, 1.0))
+    return np.stack(out, axis=1)
 
 
 def _row_sigma(sig: np.ndarray, n: int) -> np.ndarray:
@@ -314,10 +383,13 @@ def _row_sigma(sig: np.ndarray, n: int) -> np.ndarray:
 @dataclass(frozen=True)
 class BallBallFit(FitResult):
     """``FitResult`` of (f_bb, e) with what the shots add. ``sigma_speed``/``sigma_dir``: the σ used (given, or
-    estimated: a fraction for relative speed errors, else m/s; rad). ``f_bb_share``/``e_share``: each shot's share
-    of the information on that parameter with the other profiled out (Σ = 1; a shot with a share near 0 does not
-    determine it). ``regime``: per shot at the estimate, ``Regime.SLIDE`` (1) or ``GRIP`` (2: the contact stops
-    slipping during the impact, that shot does not see f_bb)."""
+    estimated: a fraction for relative speed errors, else m/s; rad; NaN for a kind not measured).
+    ``f_bb_share``/``e_share``: each shot's share of the information on that parameter with the other profiled
+    out (Σ = 1; a shot with a share near 0 does not determine it). ``regime``: per shot at the estimate,
+    ``Regime.SLIDE`` (1) or ``GRIP`` (2: the contact stops slipping during the impact, that shot does not see
+    f_bb). ``n_speed``/``n_dir``: the values measured of each kind; ``rss_speed``/``rss_dir``: their raw residual
+    sums of squares at the point (log ratios; rad²); ``chi2``: Σ (residual/σ)² with the σ used.
+    ``e_profile``: the 95 % interval of e from the profile likelihood (``profile_e``), when asked for."""
 
     sigma_speed: float = math.nan
     sigma_dir: float = math.nan
@@ -327,53 +399,98 @@ class BallBallFit(FitResult):
     f_bb_share: tuple[float, ...] = ()
     e_share: tuple[float, ...] = ()
     regime: tuple[int, ...] = ()
+    n_speed: int = 0
+    n_dir: int = 0
+    rss_speed: float = math.nan
+    rss_dir: float = math.nan
+    chi2: float = math.nan
+    e_profile: tuple[float, float] | None = None
+
+    def misfit(self) -> float:
+        """−2 log-likelihood with each kind's noise estimated, Σ_k n_k ln(RSS_k/n_k) (constants dropped): it
+        compares fits of different readings of the same data (the same number of values of each kind)."""
+        out = 0.0
+        for nk, rss in ((self.n_speed, self.rss_speed), (self.n_dir, self.rss_dir)):
+            if nk:
+                out += nk * math.log(max(rss, nk * RSS_FLOOR) / nk)
+        return out
+
+
+RSS_FLOOR = 1e-24  # per value: the rounding of the predictions (~1e-12 relative), squared; keeps ln finite
 
 
 def fit_shots(v: ArrayLike, phi: ArrayLike, cue_speed: ArrayLike, cue_dir: ArrayLike, obj_speed: ArrayLike,
               obj_dir: ArrayLike, *, R: float, k: float = 2.5, M: float = 0.17, sigma_speed: float | None = None,
               sigma_dir: float | None = None, speed_noise: SpeedNoise = "relative",
-              x0: tuple[float, float] = (0.05, 0.9)) -> BallBallFit:
+              x0: tuple[float, float] = (0.05, 0.9), **kw: Any) -> BallBallFit:
     """Fit (f_bb, e) in [0, 1]² to measured post-slip speeds (m/s) and directions (rad, lab convention of the
-    module docstring) of both balls; the report (uncertainties, identifiability) is ``fitting``'s.
+    module docstring) of both balls; the report (uncertainties, identifiability) is ``fitting``'s. NaN in an
+    outcome: not measured (masked out of the residuals).
 
     ``sigma_speed`` (a fraction of the speed for ``speed_noise="relative"``, m/s for "absolute") and ``sigma_dir``
-    (rad) given: residuals over σ, normal 95 % intervals. Both omitted: σ per kind estimated from the residuals
-    (leverage-corrected), refitting with those weights until their ratio settles; the report then estimates the
-    common scale from the weighted residuals (Student's t, m − 2 degrees of freedom)."""
+    (rad) given (each kind measured needs its σ): residuals over σ, normal 95 % intervals. Both omitted: σ per
+    kind estimated from the residuals (leverage-corrected), refitting with those weights until their ratio
+    settles; the report then estimates the common scale from the weighted residuals (Student's t, m − 2 degrees
+    of freedom). ``kw``: those of ``fit_many`` (``profile``, ``deadline``, ``canonical``)."""
     cols = {"v": v, "phi": phi, "cue_speed": cue_speed, "cue_dir": cue_dir, "obj_speed": obj_speed,
             "obj_dir": obj_dir}
     return fit_many([cols], R=R, k=k, M=M, sigma_speed=sigma_speed, sigma_dir=sigma_dir, speed_noise=speed_noise,
-                    x0=x0)[0]
+                    x0=x0, **kw)[0]
 
 
-def fit_many(datasets: Sequence[Mapping[str, ArrayLike]], *, R: float, k: float = 2.5, M: float = 0.17,
-             sigma_speed: float | None = None, sigma_dir: float | None = None, speed_noise: SpeedNoise = "relative",
-             x0: tuple[float, float] = (0.05, 0.9)) -> list[BallBallFit]:
-    """``fit_shots`` on several data sets of equal size (columns as ``synthetic_shots`` returns), their predictions
-    computed together: the same result as one ``fit_shots`` per data set, much faster for many."""
-    if (sigma_speed is None) != (sigma_dir is None):
-        raise InputError("fit_shots", "give both sigma_speed and sigma_dir, or neither (then both are estimated)")
-    if sigma_speed is not None and not (sigma_speed > 0 and sigma_dir is not None and sigma_dir > 0):
-        raise InputError("fit_shots", "sigma_speed and sigma_dir must be > 0")
-    if not datasets:
-        return []
+def _parse(datasets: Sequence[Mapping[str, ArrayLike]], speed_noise: SpeedNoise
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     parsed = [_columns(d["v"], d["phi"], d["cue_speed"], d["cue_dir"], d["obj_speed"], d["obj_dir"], speed_noise)
               for d in datasets]
     if len({p[0].size for p in parsed}) != 1 or parsed[0][0].size == 0:
         raise InputError("fit_shots", "the data sets must have the same number of shots, at least one")
-    v, phi, obs = (np.stack([p[j] for p in parsed]) for j in range(3))
-    shots = _Shots(v, phi, obs, R, k, M, speed_noise)
+    return tuple(np.stack([p[j] for p in parsed]) for j in range(3))  # type: ignore[return-value]
+
+
+def _given_sigmas(sigma_speed: float | None, sigma_dir: float | None, counts: np.ndarray) -> np.ndarray | None:
+    """The given σ as (speed, direction), 1 standing in for a kind not measured; None when none is given."""
+    if sigma_speed is None and sigma_dir is None:
+        return None
+    out = []
+    for name, sig, measured in (("sigma_speed", sigma_speed, counts[:, 0].any()),
+                                ("sigma_dir", sigma_dir, counts[:, 1].any())):
+        if sig is None and measured:
+            raise InputError("fit_shots", "give sigma_speed and sigma_dir for every kind of value measured, or "
+                                          "neither (then both are estimated)")
+        if sig is not None and not (math.isfinite(sig) and sig > 0):
+            raise InputError("fit_shots", f"{name} must be > 0")
+        out.append(1.0 if sig is None else float(sig))
+    return np.array(out)
+
+
+def fit_many(datasets: Sequence[Mapping[str, ArrayLike]], *, R: float, k: float = 2.5, M: float = 0.17,
+             sigma_speed: float | None = None, sigma_dir: float | None = None, speed_noise: SpeedNoise = "relative",
+             x0: tuple[float, float] = (0.05, 0.9), profile: bool = False, canonical: bool = True,
+             deadline: float | None = None) -> list[BallBallFit]:
+    """``fit_shots`` on several data sets of equal size (columns as ``synthetic_shots`` returns), their predictions
+    computed together: the same result as one ``fit_shots`` per data set, much faster for many.
+
+    ``profile``: also e's profile-likelihood interval (``BallBallFit.e_profile``). ``canonical=False``: a
+    rank-deficient fit is reported where the optimiser stopped, not moved to the canonical point of its family
+    (a refit that keeps only full-rank points needs no more, and the move is slow). ``deadline``
+    (``time.monotonic``): past it, ``OverBudget``."""
+    if not datasets:
+        return []
+    v, phi, obs = _parse(datasets, speed_noise)
+    shots = _Shots(v, phi, obs, R, k, M, speed_noise, deadline)
     D, n = v.shape
+    counts = _kind_counts(shots.mask, n)
+    given_sig = _given_sigmas(sigma_speed, sigma_dir, counts)
     idx = np.arange(D)
     x = np.tile(np.asarray(x0, dtype=float), (D, 1))
     its = np.zeros(D, dtype=int)
     conv = np.ones(D, dtype=bool)
-    if sigma_speed is not None and sigma_dir is not None:
-        sig = np.tile([sigma_speed, sigma_dir], (D, 1)).astype(float)
+    if given_sig is not None:
+        sig = np.tile(given_sig, (D, 1))
         x = _solve(shots, x, 1.0 / _row_sigma(sig, n), idx)
     else:
         # per-kind σ by iterated reweighting (only their ratio moves the estimate); the start is a guess
-        scale = 1.0 if speed_noise == "relative" else np.median(obs[:, [0, 2]], axis=(1, 2))
+        scale = 1.0 if speed_noise == "relative" else np.nanmedian(obs[:, [0, 2]], axis=(1, 2))
         sig = np.stack([np.broadcast_to(0.02 * scale, (D,)), np.full(D, math.radians(0.5))], axis=1)
         floor = 1e-12 * np.stack([np.broadcast_to(scale, (D,)), np.ones(D)], axis=1)
         conv[:] = False
@@ -382,7 +499,7 @@ def fit_many(datasets: Sequence[Mapping[str, ArrayLike]], *, R: float, k: float 
             w = 1.0 / _row_sigma(sig[live], n)
             x[live] = _solve(shots, x[live], w, live)
             r, J, _ = shots.eval(x[live], live)
-            new = _kind_sigmas(r, J * w[..., None], n, floor[live])
+            new = _kind_sigmas(r, J * w[..., None], shots.mask[live], n, floor[live])
             moved = np.abs((new[:, 0] / new[:, 1]) / (sig[live, 0] / sig[live, 1]) - 1.0)
             sig[live], its[live] = new, it
             done = moved <= REWEIGHT_RTOL
@@ -394,21 +511,283 @@ def fit_many(datasets: Sequence[Mapping[str, ArrayLike]], *, R: float, k: float 
     out = []
     for d in range(D):
         ws = 1.0 / _row_sigma(sig[d:d + 1], n)[0]
-        given = sigma_speed is not None
+        keep = shots.mask[d]
+        given = given_sig is not None
         res, jac = shots.functions(d, None if given else ws)
-        s = ws if given else None  # given σ: fitting weighs; estimated: the residuals come scaled, s² from them
+        s = ws[keep] if given else None  # given σ: fitting weighs; estimated: the residuals come scaled, s² from them
         fit = analyse(res, x[d], NAMES, BOUNDS, sigma=None if s is None else 1.0 / s, jac=jac)
-        if fit.identifiability.rank < 2:  # a family of solutions: least_squares_fit moves to its canonical point
+        if fit.identifiability.rank < 2 and canonical:  # a family: least_squares_fit moves to its canonical point
             fit = least_squares_fit(res, x[d], NAMES, BOUNDS, sigma=None if s is None else 1.0 / s, jac=jac)
         xf = np.asarray(fit.point)
-        _, Jd, reg = shots.eval(xf[None], np.array([d]))
+        rd, Jd, reg = shots.eval(xf[None], np.array([d]))
         f_share, e_share = _shares(Jd[0] * ws[:, None], n)
+        rr = rd[0].reshape(4, n) ** 2
         base = {f.name: getattr(fit, f.name) for f in fields(FitResult)}
-        out.append(BallBallFit(**base, sigma_speed=float(sig[d, 0]), sigma_dir=float(sig[d, 1]),
+        reported = np.where(counts[d] > 0, sig[d], math.nan)
+        out.append(BallBallFit(**base, sigma_speed=float(reported[0]), sigma_dir=float(reported[1]),
                                speed_noise=speed_noise, reweight_iterations=int(its[d]),
                                reweight_converged=bool(conv[d]), f_bb_share=f_share, e_share=e_share,
-                               regime=tuple(int(g) for g in reg[0])))
+                               regime=tuple(int(g) for g in reg[0]), n_speed=int(counts[d, 0]),
+                               n_dir=int(counts[d, 1]), rss_speed=float(rr[KIND_ROWS[0]].sum()),
+                               rss_dir=float(rr[KIND_ROWS[1]].sum()), chi2=float(np.sum((rd[0] * ws) ** 2))))
+    if profile:
+        ok = np.array([f.identifiability.rank == 2 for f in out])
+        if ok.any():
+            ci = _profile_e(shots, np.array([f.point for f in out])[ok], sig[ok], np.flatnonzero(ok),
+                            given_sig is not None, [out[d] for d in np.flatnonzero(ok)])
+            for j, d in enumerate(np.flatnonzero(ok)):
+                out[d] = replace(out[d], e_profile=(float(ci[j, 0]), float(ci[j, 1])))
     return out
+
+
+# --------------------------------------------------------------------------------------------------------------
+# e's interval from the profile likelihood, with the bound e ≤ 1
+
+PROFILE_LEVEL = 0.95
+PROFILE_XTOL = 1e-6  # the ends of e's interval are found to this (absolute; e's errors are ≥ 1e-3)
+PROFILE_MAXITER = 60  # bound on the search for the ends (bracketing doublings, then regula falsi)
+INNER_MAXITER = 40  # bound on the minimisation over f at a fixed e (Gauss–Newton with halving)
+INNER_XTOL = 1e-9  # it stops when a step moves f less than this
+
+
+CUT_NODES = 64  # per kind: the quantiles of its χ² over which the cut's probability is averaged (midpoint rule)
+CUT_NEWTON = 30  # bound on the Newton steps of z²(c, X) (quadratic from a warm start: 3 or 4 do)
+CUT_MAXITER = 40  # bound on the search for the cut c
+
+
+def _profile_cut(n: np.ndarray, nu: np.ndarray, share: np.ndarray, given: bool) -> float:
+    """The rise of χ² (σ given) or of −2 log L with each kind's noise profiled out that bounds the 95 % set.
+
+    σ given: χ²₁'s 3.84. Noise estimated: moving e from ê raises each kind's residual sum of squares by its
+    share s_k of the information on e (f profiled out) times σ_k² Z², Z standard normal, over RSS_k = σ_k² X_k,
+    X_k ~ χ²(ν_k) (ν_k: its values less their leverages), so that the rise is Σ_k n_k ln(1 + s_k Z²/X_k). For one
+    kind this is n ln(1 + F/ν), F ~ F(1, ν), exact for a linear model: the cut is n ln(1 + t²_ν/ν). For two, the
+    cut is the 95 % quantile of that sum: P(rise ≤ c) = E_X[P(Z² ≤ z²(c, X))], averaged over ``CUT_NODES``
+    quantiles of each X_k, and solved for c by regula falsi."""
+    if given:
+        return float(stats.chi2.ppf(PROFILE_LEVEL, 1))
+    use = (n > 0) & (share > 1e-12)
+    nk, nuk, sk = n[use].astype(float), np.maximum(nu[use], 1.0), share[use] / share[use].sum()
+    if nk.size == 1:
+        t = float(stats.t.ppf(0.5 + PROFILE_LEVEL / 2, nuk[0]))
+        return float(nk[0] * math.log1p(t * t / nuk[0]))
+    q = (np.arange(CUT_NODES) + 0.5) / CUT_NODES
+    X = np.stack(np.meshgrid(*(stats.chi2.ppf(q, v) for v in nuk), indexing="ij"), axis=-1).reshape(-1, nk.size)
+    a = sk / X  # (nodes, K): the rise is Σ n_k ln(1 + a_k z²)
+    z = np.zeros(X.shape[0])
+
+    def excess(c: float) -> float:
+        """P(rise ≤ c) − 0.95; z²(c, X) by Newton from the last root (the rise is increasing and concave in z²)."""
+        nonlocal z
+        z = np.maximum(z, c / (a @ nk)) if not z.any() else z
+        for _ in range(CUT_NEWTON):
+            g = np.log1p(a * z[:, None]) @ nk - c
+            dz = g / ((a / (1 + a * z[:, None])) @ nk)
+            z = np.maximum(z - dz, 0.0)
+            if np.max(np.abs(dz)) <= 1e-10 * max(c, 1.0):
+                break
+        return float(np.mean(special.erf(np.sqrt(z / 2)))) - PROFILE_LEVEL  # the χ²₁ distribution function
+
+    # regula falsi (Illinois) on c: the single-kind cuts bracket it (the rise of one kind is the extreme)
+    lo = float(stats.chi2.ppf(PROFILE_LEVEL, 1))
+    hi = 4.0 * lo
+    glo, ghi = excess(lo), excess(hi)
+    side = 0
+    for _ in range(CUT_MAXITER):
+        c = hi - ghi * (hi - lo) / (ghi - glo)
+        gc = excess(c)
+        if abs(gc) < 1e-7 or hi - lo < 1e-7:
+            return c
+        if gc < 0:
+            lo, glo = c, gc
+            ghi = ghi / 2 if side == -1 else ghi
+            side = -1
+        else:
+            hi, ghi = c, gc
+            glo = glo / 2 if side == 1 else glo
+            side = 1
+    return c
+
+
+def _objective(r: np.ndarray, w2: np.ndarray, counts: np.ndarray, n: int, given: bool) -> np.ndarray:
+    """χ² = Σ w² r² (σ given), or Σ_k n_k ln RSS_k (noise per kind profiled out), per row of r (m, 4n)."""
+    if given:
+        return np.sum(w2 * r * r, axis=1)
+    rr = (r * r).reshape(-1, 4, n)
+    out = np.zeros(r.shape[0])
+    for j, rows in enumerate(KIND_ROWS):
+        nk = counts[:, j]
+        out += np.where(nk > 0, nk * np.log(np.maximum(rr[:, rows].sum(axis=(1, 2)), np.maximum(nk, 1) * RSS_FLOOR)),
+                        0.0)
+    return out
+
+
+def _min_over_f(shots: _Shots, f0: np.ndarray, e: np.ndarray, idx: np.ndarray, w2: np.ndarray, counts: np.ndarray,
+                given: bool) -> tuple[np.ndarray, np.ndarray]:
+    """min over f ∈ [0, 1] of the objective at fixed e, for each (data set idx[i], e[i]) together: Gauss–Newton
+    steps (per-kind weights n_k/RSS_k when the noise is profiled), halved until the objective does not rise; at
+    most ``INNER_MAXITER`` evaluations. Returns (f, objective)."""
+    n = shots.n
+    f = np.clip(np.asarray(f0, dtype=float), 0.0, 1.0)
+    r, J = shots.along_f(f, e, idx)
+    obj = _objective(r, w2, counts, n, given)
+    step = np.zeros_like(f)
+    trial = np.ones(f.size, dtype=bool)  # a new Gauss–Newton step is due
+    live = np.ones(f.size, dtype=bool)
+    for _ in range(INNER_MAXITER):
+        if trial.any():
+            T = np.flatnonzero(trial & live)
+            if given:
+                ww = w2[T]
+            else:
+                rss = (r[T] ** 2).reshape(-1, 4, n)
+                ww = np.zeros((T.size, 4, n))
+                for j, rows in enumerate(KIND_ROWS):
+                    nk = counts[T, j]
+                    val = nk / np.maximum(rss[:, rows].sum(axis=(1, 2)), np.maximum(nk, 1) * RSS_FLOOR)
+                    ww[:, rows] = val[:, None, None]
+                ww = ww.reshape(T.size, 4 * n)
+            g = np.sum(ww * J[T] * r[T], axis=1)
+            H = np.sum(ww * J[T] ** 2, axis=1)
+            step[T] = np.where(H > 0, -g / np.where(H > 0, H, 1.0), 0.0)
+            trial[:] = False
+        L = np.flatnonzero(live)
+        ft = np.clip(f[L] + step[L], 0.0, 1.0)
+        moved = np.abs(ft - f[L])
+        done = moved <= INNER_XTOL
+        live[L[done]] = False
+        L, ft = L[~done], ft[~done]
+        if L.size == 0:
+            break
+        rt, Jt = shots.along_f(ft, e[L], idx[L])
+        ot = _objective(rt, w2[L], counts[L], n, given)
+        ok = ot <= obj[L]
+        A = L[ok]
+        f[A], r[A], J[A], obj[A] = ft[ok], rt[ok], Jt[ok], ot[ok]
+        trial[A] = True
+        step[L[~ok]] *= 0.5
+    return f, obj
+
+
+def _profile_e(shots: _Shots, x: np.ndarray, sig: np.ndarray, idx: np.ndarray, given: bool,
+               fits: Sequence[FitResult]) -> np.ndarray:
+    """The 95 % interval of e, (m, 2), for data sets ``idx`` with optima x (m, 2): {e ∈ [0, 1] : profile rise ≤
+    the cut} (``_profile_cut``), f minimised at each e within [0, 1]. Each end is bracketed from the Wald guess
+    outward (doubling) and then found by regula falsi (Illinois) on √rise − √cut, nearly linear in e; an end
+    whose bound lies inside the set is the bound. All ends of all data sets advance together."""
+    m, n = len(idx), shots.n
+    counts = _kind_counts(shots.mask[idx], n)
+    w2 = np.where(shots.mask[idx], 1.0 / _row_sigma(sig, n) ** 2, 0.0)
+    f_hat, e_hat = x[:, 0].copy(), x[:, 1].copy()
+    se = np.array([fit.estimate("e").stderr or 0.0 for fit in fits])
+    # the valley of the objective: f − f̂ = −(A_fe/A_ff)(e − ê), A = Jᵀ W J at the optimum (the start of f at e)
+    _, Jx, _ = shots.eval(x, idx)
+    Jw = Jx * np.sqrt(w2)[..., None]
+    A = np.einsum("dmi,dmj->dij", Jw, Jw)
+    slope = np.where(A[:, 0, 0] > 0, -A[:, 0, 1] / np.where(A[:, 0, 0] > 0, A[:, 0, 0], 1.0), 0.0)
+    # per kind: the information on e with f profiled out, and the degrees of freedom of its noise estimate
+    a_e = ((Jw[..., 1] + slope[:, None] * Jw[..., 0]) ** 2).reshape(m, 4, n)
+    lev = (np.linalg.qr(Jw)[0] ** 2).sum(axis=2).reshape(m, 4, n)
+    info = np.stack([a_e[:, rows].sum(axis=(1, 2)) for rows in KIND_ROWS], axis=1)
+    share = info / np.maximum(info.sum(axis=1, keepdims=True), np.finfo(float).tiny)
+    nu = counts - np.stack([lev[:, rows].sum(axis=(1, 2)) for rows in KIND_ROWS], axis=1)
+    cut = np.array([_profile_cut(counts[i], nu[i], share[i], given) for i in range(m)])
+    # the reference: the minimum of the profile at ê (≤ the objective at the fit's point)
+    _, obj0 = _min_over_f(shots, f_hat, e_hat, idx, w2, counts, given)
+    # jobs: (data set i, side ±1); state: inside point a (rise < cut), outside point b (rise ≥ cut) once found
+    side = np.tile([-1.0, 1.0], m)
+    job = np.repeat(np.arange(m), 2)
+    bound = np.where(side > 0, 1.0, 0.0)
+    a = e_hat[job].copy()
+    ha = -np.sqrt(cut[job])
+    b = np.full(job.size, np.nan)
+    hb = np.full(job.size, np.nan)
+    end = np.full(job.size, np.nan)
+    last = np.zeros(job.size, dtype=int)  # Illinois: which end was kept twice in a row
+    width = np.maximum(2.0 * se[job], 1e-3)
+    cand = np.clip(a + side * width, 0.0, 1.0)
+    at_bound = np.abs(e_hat[job] - bound) <= 1e-12
+    end[at_bound] = bound[at_bound]
+    live = ~at_bound
+    for _ in range(PROFILE_MAXITER):
+        L = np.flatnonzero(live)
+        if L.size == 0:
+            break
+        i = job[L]
+        _, oL = _min_over_f(shots, f_hat[i] + slope[i] * (cand[L] - e_hat[i]), cand[L], idx[i], w2[i], counts[i],
+                             given)
+        h = np.sqrt(np.maximum(oL - obj0[i], 0.0)) - np.sqrt(cut[i])
+        for q, jb in enumerate(L):
+            c, hc = cand[jb], h[q]
+            if np.isnan(b[jb]):  # still bracketing
+                if hc < 0:
+                    if abs(c - bound[jb]) <= 1e-12:
+                        end[jb], live[jb] = bound[jb], False
+                        continue
+                    a[jb], ha[jb] = c, hc
+                    width[jb] *= 2.0
+                    cand[jb] = float(np.clip(e_hat[job[jb]] + side[jb] * width[jb], 0.0, 1.0))
+                    continue
+                b[jb], hb[jb] = c, hc
+            elif hc < 0:
+                a[jb], ha[jb] = c, hc
+                hb[jb] = hb[jb] / 2 if last[jb] == -1 else hb[jb]
+                last[jb] = -1
+            else:
+                b[jb], hb[jb] = c, hc
+                ha[jb] = ha[jb] / 2 if last[jb] == 1 else ha[jb]
+                last[jb] = 1
+            if abs(b[jb] - a[jb]) <= PROFILE_XTOL or abs(hc) <= 1e-9:
+                end[jb], live[jb] = (c if abs(hc) <= 1e-9 else 0.5 * (a[jb] + b[jb])), False
+                continue
+            cand[jb] = a[jb] - ha[jb] * (b[jb] - a[jb]) / (hb[jb] - ha[jb])
+    end[live] = np.where(np.isnan(b[live]), a[live], 0.5 * (a[live] + np.nan_to_num(b[live])))  # not converged
+    return end.reshape(m, 2)
+
+
+
+QUANTITIES = ("cue_speed", "cue_dir", "obj_speed", "obj_dir")  # the residual rows' order, per kind of outcome
+
+
+@dataclass(frozen=True)
+class WeightedRows:
+    """The measured values of one data set at θ, one row each (the weighted problem the fit solved):
+    ``quantity`` (index into ``QUANTITIES``), ``shot``, ``r`` the residual over its σ (ln(predicted/measured)/σ
+    for relative speed errors), ``J`` its Jacobian in (f_bb, e), ``sigma``, ``measured`` and ``predicted``
+    (m/s; rad)."""
+
+    quantity: np.ndarray
+    shot: np.ndarray
+    r: np.ndarray
+    J: np.ndarray
+    sigma: np.ndarray
+    measured: np.ndarray
+    predicted: np.ndarray
+    speed_noise: str = "relative"
+
+    def value(self, z: np.ndarray) -> np.ndarray:
+        """The prediction whose weighted residual against each row's measured value is z: measured × exp(σ z)
+        for relative speeds, measured + σ z otherwise (e.g. a leave-one-out prediction from its deleted
+        residual)."""
+        rel = (self.speed_noise == "relative") & np.isin(self.quantity, (0, 2))
+        return np.where(rel, self.measured * np.exp(self.sigma * z), self.measured + self.sigma * z)
+
+
+def weighted_rows(cols: Mapping[str, ArrayLike], theta: Sequence[float], *, sigma_speed: float, sigma_dir: float,
+                  R: float, k: float = 2.5, M: float = 0.17, speed_noise: SpeedNoise = "relative") -> WeightedRows:
+    """``WeightedRows`` of the data set ``cols`` (NaN: not measured) at θ = (f_bb, e) with these σ (a kind not
+    measured may have any)."""
+    v, phi, obs = _parse([cols], speed_noise)
+    shots = _Shots(v, phi, obs, R, k, M, speed_noise)
+    n = shots.n
+    r, J, _ = shots.eval(np.asarray(theta, dtype=float)[None], np.array([0]))
+    keep = shots.mask[0]
+    sig = _row_sigma(np.array([[sigma_speed, sigma_dir]], dtype=float), n)[0]
+    quantity, shot = np.divmod(np.arange(4 * n), n)
+    pred = predict_shots(v[0], phi[0], f_bb=theta[0], e=theta[1], R=R, k=k, M=M)
+    p = np.stack([pred.cue_speed, pred.cue_dir, pred.obj_speed, pred.obj_dir]).reshape(-1)
+    return WeightedRows(quantity[keep], shot[keep], (r[0] / sig)[keep], (J[0] / sig[:, None])[keep], sig[keep],
+                        obs[0].reshape(-1)[keep], p[keep], speed_noise)
 
 
 def synthetic_shots(rng: np.random.Generator, n: int, *, f_bb: float = 0.06, e: float = 0.93, R: float = 0.02855,

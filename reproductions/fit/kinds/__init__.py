@@ -50,5 +50,7 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
          "v: the cue ball's speed before the impact (m/s, rolling); phi: the cut angle, between its velocity and "
          "the line of centres (rad; phi_deg for degrees); cue_speed, cue_dir, obj_speed, obj_dir: each ball's speed "
          "(m/s) and direction (rad, counter-clockwise from the cue ball's incoming direction, seen from above) once "
-         "it rolls.", "ball-ball.csv", ("R", "k", "sigma_speed", "sigma_dir", "bootstrap")),
+         "it rolls. v and phi are required; of the four outcome columns any subset will do (the two speeds alone "
+         "fix f and e, as a published table of speeds and cut angles gives them), and an empty cell means not "
+         "measured.", "ball-ball.csv", ("R", "k", "sigma_speed", "sigma_dir", "bootstrap", "max_seconds")),
 )}

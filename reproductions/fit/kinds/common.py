@@ -42,7 +42,9 @@ class FitOptions:
     sigma_dir: float | None = None  # ball-ball: noise of the measured directions, in their column's unit
     resamples: int = DEFAULT_RESAMPLES
     seed: int = 0
-    progress: Callable[[int], None] | None = None  # called after each bootstrap resample
+    progress: Callable[[int], None] | None = None  # called after each bootstrap resample; where it also has a
+    # method stage(name: str, total: int), a fit of several stages (ball-ball) announces each through it
+    max_seconds: float = 120.0  # wall-clock bound of one fit, its refits included (ball-ball): past it, an error
 
 
 @dataclass(frozen=True)
@@ -58,8 +60,9 @@ class FitOutcome:
 def estimate_row(pid: str, label: str, value: float | None, stderr: float | None,
                  ci95: tuple[float | None, float | None], *, method: str, identifiable: bool = True,
                  boot: tuple[float, float] | None = None, at_bound: str | None = None, clipped: bool = False,
-                 note: str = "", unit: str = "1") -> dict[str, Any]:
-    """One estimate as ``summary.json`` holds it."""
+                 note: str = "", unit: str = "1", bound_aware: bool = False) -> dict[str, Any]:
+    """One estimate as ``summary.json`` holds it. ``bound_aware``: its interval is a profile likelihood's that
+    takes the bound into account, so an estimate on the bound is no contradiction (``checks.finish``)."""
     notes = []
     if at_bound is not None:
         notes.append(f"the fit ended on the {at_bound} bound of {label}: the data fit best at or beyond the "
@@ -70,7 +73,8 @@ def estimate_row(pid: str, label: str, value: float | None, stderr: float | None
         notes.append(note)
     return {"id": pid, "parameter": label, "value": value, "stderr": stderr, "unit": unit,
             "ci95": list(ci95), "ci95_bootstrap": None if boot is None else list(boot),
-            "identifiable": identifiable, "at_bound": at_bound, "clipped": clipped, "method": method,
+            "identifiable": identifiable, "at_bound": at_bound, "clipped": clipped, "bound_aware": bound_aware,
+            "method": method,
             "note": "; ".join(notes)}
 
 

@@ -253,10 +253,11 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     note = _bound_note(bi.reaches, heights) if clipped else ""
     fits = [
         estimate_row("e", "e (Newton's restitution)", e, se_e, e_ci, method=method,
-                     boot=None if boot is None else boot.ci95[0], clipped=clipped, at_bound=at_bound, note=note),
+                     boot=None if boot is None else boot.ci95[0], clipped=clipped, at_bound=at_bound, note=note,
+                     bound_aware=True),
         estimate_row("eps", "ε (Résal, eq. 9: ε = (1 − e)/(1 + e))", eps, se_eps, eps_ci, method=method,
                      boot=None if boot is None else boot.ci95[1], clipped=clipped,
-                     at_bound=eps_bound, note=note),
+                     at_bound=eps_bound, note=note, bound_aware=True),
     ]
     # speed dependence: the per-trial e against the impact speed, with the weights of the noise model
     w_e = np.asarray(fr.weights) * (p * max(e, 1e-12) ** (p - 1)) ** 2
