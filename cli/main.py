@@ -328,6 +328,19 @@ def _positive(name: str, what: str) -> Callable[[str], float]:
     return parse
 
 
+K_MIN = 1.5  # MR²/I of a sphere: a thin shell's 1.5 is the least any spherically symmetric ball can have
+
+
+def _k_ratio(text: str) -> float:
+    """--k, MR²/I: at least 1.5 (a thin shell; a homogeneous ball 2.5); 0.4 is I/MR², the other convention."""
+    v = _positive("--k", "MR²/I, 2.5 for a solid ball")(text)
+    if v < K_MIN:
+        hint = f" (--k {1 / v:.3g}?)" if 1 / v >= K_MIN else ""
+        _fail(InputError(f"--k {text}", f"expected MR²/I ≥ {K_MIN:g} (a thin shell; a solid ball 2.5): {text} reads "
+                                        f"as I/MR², the inverse convention{hint}"))
+    return v
+
+
 def _choice(name: str, choices: tuple[str, ...]) -> Callable[[str], str]:
     def parse(text: str) -> str:
         if text not in choices:
@@ -343,8 +356,8 @@ def _fit_options() -> dict[str, tuple[Any, Any]]:
     return {
         "sigma": (Annotated[float | None, typer.Option(
             "--sigma", parser=_positive("--sigma", "a standard deviation"),
-            help="known standard deviation of each measured outcome (V1, h1, V1p…), in the data's own unit as the "
-                 "header gives it (V1_cmps: cm/s; no unit: SI)")], None),
+            help="known standard deviation of each measured outcome (V1, h1, V1p, the clicks t…), in the data's own "
+                 "unit as the header gives it (V1_cmps: cm/s; no unit: SI)")], None),
         "sigma_in": (Annotated[float | None, typer.Option(
             "--sigma-in", parser=_positive("--sigma-in", "a standard deviation"),
             help="known standard deviation of each measured impact (V0, u0 or h0), in its column's unit as the "
@@ -364,7 +377,7 @@ def _fit_options() -> dict[str, tuple[Any, Any]]:
         "Mp": (Annotated[float | None, typer.Option("--Mp", parser=_positive("--Mp", "a mass in kg"),
                                                     help="struck mass (kg), if not a column")], None),
         "R": (Annotated[float, typer.Option("--R", parser=_radius, help="ball radius (m)")], 0.0305),
-        "k": (Annotated[float, typer.Option("--k", parser=_positive("--k", "MR²/I, 2.5 for a solid ball"),
+        "k": (Annotated[float, typer.Option("--k", parser=_k_ratio,
                                             help="MR²/I of the ball (2.5: homogeneous sphere)")], 2.5),
         "h0": (Annotated[float | None, typer.Option("--h0", parser=_positive("--h0", "a height in m"),
                                                     help="drop height (m), released at rest: then g is fitted too")],

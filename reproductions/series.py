@@ -134,7 +134,8 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
             try:
                 v = float(cell)
             except ValueError:
-                raise InputError(f"{where}:{line_no}", f"{col}: expected a number, got '{cell}'") from None
+                empty = " or an empty cell (not measured)" if h in blank else ""
+                raise InputError(f"{where}:{line_no}", f"{col}: expected a number{empty}, got '{cell}'") from None
             if not math.isfinite(v):
                 raise InputError(f"{where}:{line_no}", f"{col}: expected a finite number, got '{cell}'")
             if h in positive and v <= 0:
@@ -162,7 +163,7 @@ def header_names(path: Path) -> tuple[int, set[str]]:
         return 0, set()
     for i, ln in enumerate(text.splitlines()):
         if ln.strip() and not ln.startswith("#"):
-            return i + 1, {h.strip().split("_")[0] for h in ln.split(",") if h.strip()}
+            return i + 1, {h.strip().split("_")[0] for h in next(csv.reader([ln])) if h.strip()}
     return 0, set()
 
 
@@ -210,7 +211,8 @@ def check_pendulum_trials(s: Series, M: np.ndarray, Mp: np.ndarray, sigma: float
         if abs(imbalance) > tol_p:
             raise InputError(s.at(i), f"the trial breaks momentum: M V0 − M V1 − M′ V1p = {imbalance:.4g} kg·m/s "
                                       f"(M = {m:g}, M′ = {mp:g}), beyond {allowed}; expected M V0 = M V1 + M′ V1p "
-                                      "(signed velocities in m/s; are the masses right?)")
+                                      "(signed velocities in m/s; are the masses right, or the columns V1 and V1p "
+                                      "swapped?)")
         if V1[i] - V1p[i] > tol_v:
             raise InputError(s.at(i), f"V1 = {V1[i]:g} exceeds V1p = {V1p[i]:g}: the striking body would pass "
                                       f"through the struck one; expected V1 ≤ V1p (it exceeds it by more than "

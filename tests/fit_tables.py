@@ -44,6 +44,20 @@ def shift(row: int, j: int, by: float) -> Change:
     return f
 
 
+def cell(row: int, j: int, text: str) -> Change:
+    """One cell replaced by ``text`` (a dash, NA, nothing)."""
+    def f(t: Table) -> Table:
+        rows = [list(r) for r in t[1]]
+        rows[row][j] = text
+        return t[0], rows
+    return f
+
+
+def first_row_only(t: Table) -> Table:
+    """Every row the first: trials that agree exactly (read to a coarse precision, or copied)."""
+    return t[0], [list(t[1][0]) for _ in t[1]]
+
+
 def chain(*fs: Change) -> Change:
     def f(t: Table) -> Table:
         for g in fs:

@@ -11,7 +11,7 @@ import json
 from pathlib import Path
 
 import pytest
-from fit_tables import EXAMPLES, chain, header, invoke, line, ok, same, scale, shift, write
+from fit_tables import EXAMPLES, cell, chain, first_row_only, header, invoke, line, ok, same, scale, shift, write
 
 BB = ("--R", "0.02855")  # the ball-ball example's radius (its comment says so)
 BB_HEAD = ["v", "phi_deg", "cue_speed", "cue_dir_deg", "obj_speed", "obj_dir_deg"]
@@ -68,6 +68,23 @@ WARNED = {
                                             (f"line(s) {line(5)} ",)),
     "ricochet one imprint mistyped by 5 cm": ("ricochet", "ricochet.csv", shift(4, 0, 0.05), (), {"outlier"},
                                               (f"line(s) {line(4)} ",)),
+    "ricochet --g in cm/s²": ("ricochet", "ricochet.csv", same, ("--g", "981"), {"implausible-input"},
+                              ("in cm/s² it would be plausible",)),
+    "ricochet equal spacings (no ricochet)": ("ricochet", "ricochet.csv",
+                                              lambda t: (t[0], [[f"{0.1 * i:g}", f"{0.1 * i:g}"]
+                                                                for i in range(len(t[1]))]), (), {"at-bound"}, ()),
+    "bounces --h0 in mm": ("bounces", "bounces.csv", same, ("--h0", "500"), {"implausible-input", "implausible-result"},
+                           ("--h0 500: 500 m", "in mm", "is not gravity")),
+    "bounces --h0 wrong": ("bounces", "bounces.csv", same, ("--h0", "0.3"), {"implausible-result"},
+                           ("is not gravity",)),
+    "bounces σ given in s for a column in ms": ("bounces", "bounces.csv", same, ("--sigma", "0.001"),
+                                                {"chi2-exceeds-sigma"}, ("in the clicks' unit, ms",)),
+    "bounces σ far too large": ("bounces", "bounces.csv", same, ("--sigma", "100"), {"sigma-exceeds-scatter"}, ()),
+    "ball-ball identical shots": ("ball-ball", "ball-ball.csv", first_row_only, BB, {"no-scatter"}, ()),
+    "rebound identical trials": ("rebound", "rebound.csv", first_row_only, (), {"no-scatter", "duplicate-rows"},
+                                 ("has no width", "copied twice?")),
+    "rebound σ far too large": ("rebound", "rebound.csv", same, ("--sigma", "2"), {"sigma-exceeds-scatter"},
+                                ("is σ in the data's unit?",)),
 }
 
 
@@ -121,6 +138,11 @@ REFUSED = {
     "ball-ball degrees without a unit": ("ball-ball", "ball-ball.csv",
                                          header(["v", "phi", "cue_speed", "cue_dir", "obj_speed", "obj_dir"]), BB,
                                          ("beyond 2π", "write phi_deg in the header")),
+    "ricochet --k as I/MR²": ("ricochet", "ricochet.csv", same, ("--k", "0.4"), ("reads as I/MR²", "--k 2.5?")),
+    "ball-ball a dash for a value not measured": ("ball-ball", "ball-ball.csv", cell(2, 3, "-"), BB,
+                                                  (f":{line(2)}:", "or an empty cell (not measured)")),
+    "pendulum V1 and V1p swapped": ("pendulum", "pendulum.csv", header(["V0", "V1p", "V1", "M_g", "Mp_g"]), (),
+                                    ("V1 and V1p swapped",)),
     "ricochet instants in ms, no unit": ("ricochet", "ricochet.csv", scale(1, 1000.0), (),
                                          ("expected t in seconds",)),
     "rebound given a pendulum's file": ("rebound", "pendulum.csv", same, (),

@@ -27,8 +27,24 @@ from scipy import stats
 
 from ..series import UNITS, Series, unit_label
 
-__all__ = ["PLAUSIBLE", "Code", "Reading", "better_reading", "chi2_given", "finish", "leave_one_out", "loo_entries",
-           "name_outliers", "noise_plausible", "plausible_columns", "plausible_values", "warn"]
+__all__ = [
+    "G_HIGH",
+    "G_LOW",
+    "PLAUSIBLE",
+    "Code",
+    "Reading",
+    "better_reading",
+    "check_g",
+    "chi2_given",
+    "finish",
+    "leave_one_out",
+    "loo_entries",
+    "name_outliers",
+    "noise_plausible",
+    "plausible_columns",
+    "plausible_values",
+    "warn",
+]
 
 
 class Code(str, Enum):
@@ -44,6 +60,10 @@ class Code(str, Enum):
     AT_BOUND = "at-bound"  # the estimate ended on the edge of its admissible range
     IDENTIFIABILITY = "not-identifiable"  # the data determine only a combination
     ASSUMED = "assumed"  # something the data do not say was taken as said (a direction, a sign)
+    DUPLICATE = "duplicate-rows"  # rows repeated exactly: copied twice?
+    NO_SCATTER = "no-scatter"  # the residuals are exactly zero: no noise can be estimated, no interval
+    SIGMA_LARGE = "sigma-exceeds-scatter"  # a given σ far larger than the residuals: intervals too wide
+    RESULT = "implausible-result"  # a fitted quantity known from elsewhere (g) comes out far from what it is
 
 
 def warn(summary: dict[str, Any], code: Code, message: str) -> None:
@@ -53,10 +73,44 @@ def warn(summary: dict[str, Any], code: Code, message: str) -> None:
         summary["warnings"].append(entry)
 
 
+G_LOW, G_HIGH = 9.76, 9.84  # m/s²: gravity from the equator to the poles and on mountains, with a margin
+
+
+def check_g(summary: dict[str, Any], g: float) -> None:
+    """--g outside what gravity is on Earth (a unit? cm/s²)."""
+    if not G_LOW <= g <= G_HIGH:
+        hint = "; in cm/s² it would be plausible (--g takes m/s²)" if G_LOW <= g / 100 <= G_HIGH else ""
+        warn(summary, Code.UNIT, f"--g {g:g} m/s² is outside {G_LOW:g}–{G_HIGH:g} m/s², gravity anywhere on "
+                                 f"Earth{hint}")
+
+
+def _no_width(f: dict[str, Any]) -> bool:
+    ci, v = f.get("ci95") or [None, None], f.get("value")
+    return bool(f.get("identifiable") and v is not None and ci[0] is not None and ci[1] is not None
+                and ci[1] - ci[0] <= ZERO_WIDTH * max(1.0, abs(v)) and not f.get("at_bound"))
+
+
+ZERO_WIDTH = 1e-12  # an interval narrower than this (relative) has no width: the residuals are zero
+SMALL_CHI2_P = 1e-3  # a given σ is far too large when χ² is this improbably small
+
+
 def finish(summary: dict[str, Any]) -> None:
-    """The checks every kind shares, run on its summary: an estimate that ended on a bound of its range, unless
+    """The checks every kind shares, run on its summary: an interval of no width (zero residuals), a given σ far
+    larger than the scatter, an estimate that ended on a bound of its range, unless
     its interval is a profile likelihood's with the bound (then the bound is one of the values the data allow, as
     e = 1 is for a series at e = 0.995; a series far beyond the bound is a kind's own finding, a convention)."""
+    flat = [f["parameter"] for f in summary["fits"] if _no_width(f)]
+    if flat:
+        warn(summary, Code.NO_SCATTER, f"the 95 % interval of {' and of '.join(flat)} has no width: the trials agree "
+                                       "exactly (identical, duplicated or rounded values), so no noise can be "
+                                       "estimated from them; give the measurement's σ (its reading precision) for an "
+                                       "honest interval")
+    good = summary.get("goodness") or {}
+    if good.get("chi2_p") is not None and good["chi2_p"] > 1.0 - SMALL_CHI2_P:
+        warn(summary, Code.SIGMA_LARGE, f"the given σ is far larger than the scatter: reduced χ² = "
+                                        f"{good['reduced_chi2']:.3g}, a χ² this small has probability below "
+                                        f"{SMALL_CHI2_P:g}; the intervals from σ are too wide (is σ in the "
+                                        "data's unit?)")
     for f in summary["fits"]:
         if f.get("at_bound") and not f.get("bound_aware"):
             warn(summary, Code.AT_BOUND, f"{f['parameter']} ended on the {f['at_bound']} bound of its admissible "
@@ -74,20 +128,21 @@ class Range:
     low: float
     high: float
     what: str
+    typical: float  # a usual value: of several units that fit, the one nearest it is named
 
 
 # per kind of quantity, in SI; wide enough for any billiard or laboratory measurement, narrow enough that a
 # column in another unit falls outside (cm/s read as m/s: 27–340 "m/s"; degrees read as radians: 30 "rad")
 PLAUSIBLE: dict[str, Range] = {
-    "ball-speed": Range(0.01, 15.0, "a billiard ball's speed (a hard break is 8–12 m/s)"),
+    "ball-speed": Range(0.01, 15.0, "a billiard ball's speed (a hard break is 8–12 m/s)", 1.5),
     # 20 m/s: a drop from 20 m, beyond a hard break's 12 m/s; cm/s read as m/s (20–1000 for 0.2–10 m/s) fall outside
-    "lab-speed": Range(1e-3, 20.0, "an impact speed in a laboratory rebound"),
+    "lab-speed": Range(1e-3, 20.0, "an impact speed in a laboratory rebound", 2.0),
     # 3 m: from there air drag lowers a billiard ball's √(h1/h0) about 1 % below e (terminal speed ≈ 48 m/s);
     # and mm read as m (200–1000 "m") then name mm, not cm
-    "drop-height": Range(1e-3, 3.0, "a drop or rebound height in a laboratory"),
-    "pendulum-speed": Range(1e-3, 20.0, "a pendulum's speed at the bottom of its swing"),
-    "mass": Range(1e-3, 50.0, "a ball's or a pendulum bob's mass"),
-    "flight-time": Range(1e-3, 5.0, "a bounce's flight (a drop from 20 m gives one of 4 s)"),
+    "drop-height": Range(1e-3, 3.0, "a drop or rebound height in a laboratory", 0.5),
+    "pendulum-speed": Range(1e-3, 20.0, "a pendulum's speed at the bottom of its swing", 1.0),
+    "mass": Range(1e-3, 50.0, "a ball's or a pendulum bob's mass", 0.3),
+    "flight-time": Range(1e-3, 5.0, "a bounce's flight (a drop from 20 m gives one of 4 s)", 0.3),
 }
 
 
@@ -119,21 +174,26 @@ def plausible_values(si: np.ndarray, written: np.ndarray, key: str, dim: str | N
     if rng.low <= lo and hi <= rng.high:
         return None
     si_text = unit_label(next(iter(UNITS[dim]))) if dim else ""
-    return (f"{what}: {float(wr.min()):.4g} to {float(wr.max()):.4g} {unit_text}, outside {rng.low:g}–"
+    span = f"{float(wr.min()):.4g}" + ("" if wr.min() == wr.max() else f" to {float(wr.max()):.4g}")
+    return (f"{what}: {span} {unit_text}, outside {rng.low:g}–"
             f"{rng.high:g} {si_text}, {rng.what}{_unit_hint(wr, rng, dim, unit)}")
 
 
 def _unit_hint(written: np.ndarray, rng: Range, dim: str | None, unit: str | None) -> str:
-    """'; read as cm/s (header V0_cmps) they would be' when another unit of the dimension puts them inside."""
+    """'; in cm/s they would be plausible (…'_cmps')': of the other units of the dimension that put the values
+    inside the range, the one that puts their median nearest the range's typical value (mm, not cm, for
+    pendulum heights of 110–280)."""
     if dim is None:
         return ""
-    for u, factor in UNITS[dim].items():
-        if u == unit or (unit is None and factor == 1.0):
-            continue
-        si = np.abs(written) * factor
-        if rng.low <= float(si.min()) and float(si.max()) <= rng.high:
-            return f"; in {unit_label(u)} they would be plausible (write the unit in the header, '_{u}')"
-    return ""
+    a = np.abs(written)
+    lo, hi, mid = float(np.min(a)), float(np.max(a)), float(np.median(a))
+    fits = [(abs(math.log(max(mid * factor, 1e-300) / rng.typical)), u) for u, factor in UNITS[dim].items()
+            if not (u == unit or (unit is None and factor == 1.0))
+            and rng.low <= lo * factor and hi * factor <= rng.high]
+    if not fits:
+        return ""
+    u = min(fits)[1]
+    return f"; in {unit_label(u)} they would be plausible (write the unit in the header, '_{u}')"
 
 
 # --------------------------------------------------------------------------------------------------------------

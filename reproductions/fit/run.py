@@ -8,11 +8,12 @@ line writes and draws.
 
 from __future__ import annotations
 
+import csv
 from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import InputError
-from .checks import finish
+from .checks import check_g, finish
 from .kinds import KINDS, Kind
 from .kinds.ballball import fit_ballball
 from .kinds.common import FitOptions, FitOutcome
@@ -55,7 +56,7 @@ def _header(path: Path) -> tuple[int, list[str]] | None:
     for i, ln in enumerate(text.splitlines()):
         if ln.strip() and not ln.startswith("#"):
             names = []
-            for cell in (c.strip() for c in ln.split(",")):
+            for cell in (c.strip() for c in next(csv.reader([ln]))):
                 base = cell.rsplit("_", 1)[0] if cell not in _KNOWN and "_" in cell else cell
                 names.append(base)
             return i + 1, names
@@ -93,5 +94,7 @@ def fit_csv(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         raise InputError(f"{path}:{other[0]}", f"this header is that of {them}, not of `resal fit {kind}`, which "
                                                f"expects {KINDS[kind].columns}")
     outcome = FITTERS[kind](kind, path, opts)
+    if "g" in KINDS[kind].options and not (kind == "bounces" and opts.h0 is not None):  # with h0, g is fitted
+        check_g(outcome.summary, opts.g)
     finish(outcome.summary)
     return outcome

@@ -686,16 +686,20 @@ def _bounce_profile(t: np.ndarray, nu: np.ndarray) -> tuple[np.ndarray, np.ndarr
     return tc @ tc - st * T1, T1, t.mean() - T1 * S.mean(axis=-1)
 
 
-def _profile_set(grid: np.ndarray, prof: np.ndarray, level: float, refine: Callable[[float], float], best: float,
-                 lo: float, hi: float) -> tuple[float, float]:
+def _profile_set(grid: np.ndarray, prof: np.ndarray, level: float, refine: Callable[[float], float],
+                 best: float | None, lo: float, hi: float) -> tuple[float, float]:
     """The hull [a, b] of {θ : prof(θ) ≤ level} from a grid of the profile and its optimum ``best``: each end
     found by root finding on the profile ``refine`` between the outermost point inside (a grid point or ``best``)
     and the next grid point outside (or the bound, where the set reaches it)."""
     inside = np.nonzero(prof <= level)[0]
+    if best is None:  # the estimate is not identifiable (a short rank): the grid's best point stands in for it
+        best = float(grid[int(np.argmin(prof))])
 
     def end(a: float, b: float) -> float:  # a inside, b beyond: where the profile crosses the level
         if refine(b) <= level:
             return b
+        if refine(a) > level:  # the optimum sits on the edge of the grid's set (ν = 1): no crossing between
+            return a
         return float(optimize.brentq(lambda v: refine(v) - level, a, b, xtol=1e-13, rtol=1e-11))
 
     left = min(float(grid[inside[0]]), best) if inside.size else best

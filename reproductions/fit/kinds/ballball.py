@@ -103,8 +103,15 @@ def fit_ballball(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     except OverBudget:
         raise ComputationError(str(path), f"the fit of (f, e) to these shots ran past its time bound of "
                                           f"{opts.max_seconds:g} s ({stage.name}) and was stopped; nothing was "
-                                          "written (data the model cannot describe make the fit slow: check the "
-                                          "columns' units, signs and conventions)") from None
+                                          f"written ({_slow_hint(stage.name)})") from None
+
+
+def _slow_hint(stage: str) -> str:
+    """What to do when the time bound stops a fit, by the stage it stopped in."""
+    if stage == "bootstrap":
+        return "give fewer resamples, --bootstrap, or more time, --max-seconds"
+    return ("give more time, --max-seconds; data the model cannot describe make the fit slow: check the columns' "
+            "units, signs and conventions")
 
 
 def _read(path: Path) -> tuple[Series, dict[str, np.ndarray]]:
@@ -345,7 +352,12 @@ def _loo(summary: dict[str, Any], s: Series, cols: dict[str, np.ndarray], fit: B
         out.append({"line": s.lines[g], "p": _num(res["p"][k]), "quantities": qty})
         lines.append(s.lines[g])
     summary["leave_one_out"] = out
-    name_outliers(summary, lines, res["p"], "shot")
+    bad = name_outliers(summary, lines, res["p"], "shot")
+    if bad and any(w["code"] == Code.OUTLIER.value for w in summary["warnings"]):
+        # the speeds' noise is taken as relative: a constant noise (video tracking, ± a few cm/s) makes slow balls
+        # look like outliers; say so beside the warning
+        summary["warnings"][-1]["message"] += ("; the fit takes the speeds' noise as proportional to the speed: "
+                                               "a constant noise (± a few cm/s) makes slow balls look like outliers")
 
 
 def _table(s: Series, cols: dict[str, np.ndarray], p: dict[str, np.ndarray], err: dict[str, np.ndarray]

@@ -12,6 +12,7 @@ each trial predicted from the others, the inputs' plausible ranges, and refusals
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 from typing import Any
@@ -264,25 +265,32 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     # a given σ that the scatter contradicts (χ² p < 1 %) cannot judge a law: the F tests estimate the scale instead
     sigma_holds = fr.noise is Noise.GIVEN and not (fr.chi2_p is not None and fr.chi2_p < 0.01)
     law, tests, laws = select_law(v, e_i, w_e, absolute=sigma_holds)
+    flat = _no_scatter(e_i)
+    if flat:  # every trial gives the same e: each law fits exactly, and no F test has a scale to judge by
+        law, tests = laws[0], [dataclasses.replace(t, statistic=0.0, p=1.0) for t in tests]
     summary = base_summary(kind, path, n, columns_read(s, DIMS), opts)
     summary["fits"] = fits
     summary["noise"] = _noise_summary(fr, opts, heights, s.unit_text[in_col])
     summary["goodness"] = _goodness(fr, x, y, w=np.asarray(fr.weights))
     lof = summary["goodness"]["lack_of_fit"]
+    _duplicates(summary, s, x, y)
     if lof is not None and lof["p"] < 0.01:
+        said = (f"F = {lof['F']:.3g}, p = {lof['p']:.2g}" if lof["F"] is not None else
+                "the repeats agree exactly while the impact speeds' means differ")
         warn(summary, Code.LACK_OF_FIT, f"lack of fit: trials repeated at one impact speed agree with one another "
-                                        f"far better than with a constant e (F = {lof['F']:.3g}, p = "
-                                        f"{lof['p']:.2g}); e above is an average, not a law of your data")
+                                        f"far better than with a constant e ({said}); e above is an average, not "
+                                        "a law of your data")
     # one parameter, linear in the data: determined by any trial (x > 0); the rank and the singular value say so
     sv = math.sqrt(float(np.sum(fr.weights))) if math.isfinite(float(np.sum(fr.weights))) else math.inf
     summary["identifiability"] = [{"data": path.name, "parameters": ["e" if p == 1 else "e²"], "rank": 1,
                                    "singular_values": [sv if math.isfinite(sv) else None], "condition_number": 1.0,
                                    "null_directions": [], "identified_combinations": []}]
     summary["speed_dependence"] = {
-        "tests": [{"orders": [t.lower, t.higher], "test": t.test, "statistic": t.statistic, "p": t.p}
-                  for t in tests],
+        "tests": [{"orders": [t.lower, t.higher], "test": t.test,
+                   "statistic": t.statistic if _finite(t.statistic) else None, "p": t.p} for t in tests],
         "order": law.order,
-        "verdict": _law_verdict(law.order, tests),
+        "verdict": (f"every trial gives the same e = {float(e_i[0]):.4g} (no scatter): no evidence of a speed "
+                    "dependence" if flat else _law_verdict(law.order, tests)),
         "law": None if law.order == 0 else {"coefficients": list(law.coefficients), "stderr": list(law.stderr),
                                             "v_range": list(law.v_range), "text": _law_text(law)},
     }
@@ -291,7 +299,8 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         warn(summary, Code.SPEED_LAW, f"the data reject a constant e ({test}): e above is "
                                       f"the mean over {law.v_range[0]:.3g}–{law.v_range[1]:.3g} m/s; the law "
                                       f"{_law_text(law)} describes them")
-    _check_fit(summary, s, fr, x, y, heights, in_col, out_col, (law, v, e_i, w_e, sigma_holds))
+    _check_fit(summary, s, fr, x, y, heights, in_col, out_col, (law, v, e_i, w_e, sigma_holds),
+               _judging_models(fr, opts))
     summary["per_trial"] = [{"line": s.lines[i], "impact_speed": float(v[i]), "e": float(e_i[i]),
                              "residual": fr.residuals[i]} for i in range(n)]
     summary["comparison"] = _comparisons(kind, heights, e, e_ci, law, v, tests, lof)
@@ -321,7 +330,8 @@ def _bound_note(reaches: str | None, heights: bool) -> str:
 
 
 def _check_fit(summary: dict[str, Any], s: Series, fr: RatioFit, x: np.ndarray, y: np.ndarray, heights: bool,
-               in_col: str, out_col: str, by_law: tuple[Any, np.ndarray, np.ndarray, np.ndarray, bool]) -> None:
+               in_col: str, out_col: str, by_law: tuple[Any, np.ndarray, np.ndarray, np.ndarray, bool],
+               models: tuple[Noise, ...] = ()) -> None:
     """The fit checks itself (``fit.checks``): χ² against a given σ, the scatter against a plausible one, each trial
     predicted from the others (by the law e(v) when the data reject a constant e), the impacts' plausible range."""
     out_name = "h1" if heights else "|V1|"
@@ -352,18 +362,51 @@ def _check_fit(summary: dict[str, Any], s: Series, fr: RatioFit, x: np.ndarray, 
         better_reading(summary, fr.deviance(1.0) - fr.deviance(fr.value), [Reading(
             f"the columns swapped ({'e² = h0/h1' if heights else 'e = V0/|V1|'} = {1 / fr.value:.4g} ≤ 1)",
             f"swap the two names in the header ({s.written[in_col]}, {s.written[out_col]})", 0.0)])
-    summary["leave_one_out"] = _leave_one_out(summary, s, fr, x, y, heights, by_law, not contradicted)
+    summary["leave_one_out"] = _leave_one_out(summary, s, fr, x, y, heights, by_law, not contradicted, models)
     for msg in plausible_columns(s, {in_col: "drop-height" if heights else "lab-speed"}, DIMS):
         warn(summary, Code.UNIT, msg)
 
 
+def _judging_models(fr: RatioFit, opts: FitOptions) -> tuple[Noise, ...]:
+    """The noise models under which a trial must lie outside its interval to be named an outlier: both when the
+    data chose one (``--noise auto``: the margin favours the proportional model on purpose, and under the wrong one
+    sound trials at the ends of the range look far off), the one the user told (``--noise``); none beyond the fit's
+    own when σ is given (``--sigma``, ``--sigma-in``)."""
+    if opts.sigma is not None or fr.sigma_x is not None:
+        return ()
+    return (Noise.CONSTANT, Noise.PROPORTIONAL) if opts.noise is Noise.AUTO else (opts.noise,)
+
+
+def _model_weights(noise: Noise, x: np.ndarray) -> np.ndarray:
+    """The weights of the per-trial ratio (or e) under a noise model: constant on the outcome (xᵢ²), proportional
+    to the impact (1)."""
+    return np.ones_like(x) if noise is Noise.PROPORTIONAL else x * x
+
+
+def _loo_p_law(order: int, v: np.ndarray, e_i: np.ndarray, w: np.ndarray, lines: np.ndarray) -> np.ndarray:
+    """Each trial's leave-one-out p about the law e(v) of this order, fitted with weights ``w`` (scale estimated)."""
+    law = poly_law(v, e_i, w, order)
+    sw = np.sqrt(w)
+    X = np.vander(v, order + 1, increasing=True)
+    return leave_one_out(sw * (e_i - law(v)), sw[:, None] * X, lines, sigma_known=False)["p"]
+
+
+def _loo_p_ratio(x: np.ndarray, y: np.ndarray, noise: Noise, lines: np.ndarray) -> np.ndarray:
+    """Each trial's leave-one-out p about the constant ratio fitted under ``noise`` (scale estimated)."""
+    alt = fit_ratio(x, y, noise)
+    sd = x / np.sqrt(np.asarray(alt.weights))
+    return leave_one_out(np.asarray(alt.residuals) / sd, x / sd, lines, sigma_known=False)["p"]
+
+
 def _leave_one_out(summary: dict[str, Any], s: Series, fr: RatioFit, x: np.ndarray, y: np.ndarray, heights: bool,
-                   by_law: tuple[Any, np.ndarray, np.ndarray, np.ndarray, bool], sigma_holds: bool
-                   ) -> list[dict[str, Any]]:
+                   by_law: tuple[Any, np.ndarray, np.ndarray, np.ndarray, bool], sigma_holds: bool,
+                   models: tuple[Noise, ...] = ()) -> list[dict[str, Any]]:
     """Each trial's outcome predicted from the other trials, with its 95 % prediction interval (``checks.
     leave_one_out``, exact for these linear fits): by the constant c (weighted residuals (yᵢ − c xᵢ)/σᵢ,
     σᵢ = xᵢ/√wᵢ), or by the law e(v) when one was taken (its weighted polynomial fit, mapped to y = eᵖ·x).
-    A σ that the scatter contradicts is not used: the scale is then estimated."""
+    A σ that the scatter contradicts is not used: the scale is then estimated. The interval is the fit's noise
+    model's; a trial's p is the largest over ``models`` too (``_judging_models``), so that it is named an outlier
+    only when it is one whichever of those noise models holds."""
     law, v, e_i, w_e, law_absolute = by_law
     lines = np.asarray(s.lines)
     n = x.size
@@ -371,13 +414,17 @@ def _leave_one_out(summary: dict[str, Any], s: Series, fr: RatioFit, x: np.ndarr
     name = "h1" if heights else "|V1|"
     w = np.asarray(fr.weights)
     ok = bool(np.all(np.isfinite(w)) and np.all(w > 0) and np.all(np.isfinite(w_e)) and np.all(w_e > 0))
+    by_model: dict[str, np.ndarray] = {}
     if law.order and ok:
         if not law_absolute:  # the law's own noise model: the constant-c fit's was chosen against a constant e
-            w_e = _law_weights(law.order, v, e_i, x)
+            w_e = (_model_weights(models[0], x) if len(models) == 1 else _law_weights(law.order, v, e_i, x))
             law = poly_law(v, e_i, w_e, law.order)
+            if len(models) > 1:
+                by_model = {m.value: _loo_p_law(law.order, v, e_i, _model_weights(m, x), lines) for m in models}
         sw = np.sqrt(w_e)
         X = np.vander(v, law.order + 1, increasing=True)
         loo = leave_one_out(sw * (e_i - law(v)), sw[:, None] * X, lines, sigma_known=law_absolute)
+        loo["p"] = _largest(loo["p"], by_model)
         entries = loo_entries(loo, lines, [name] * n, e_i, 1 / sw)
         for en, xi, yi in zip(entries, x, y, strict=True):
             en["measured"] = float(yi)
@@ -388,11 +435,26 @@ def _leave_one_out(summary: dict[str, Any], s: Series, fr: RatioFit, x: np.ndarr
         sd = x / np.sqrt(w) if ok else np.ones_like(x)
         res = np.asarray(fr.residuals)
         loo = leave_one_out(res / sd, x / sd, lines, sigma_known=fr.noise is Noise.GIVEN and sigma_holds)
+        if ok and len(models) > 1:
+            by_model = {m.value: _loo_p_ratio(x, y, m, lines) for m in models}
+        loo["p"] = _largest(loo["p"], by_model)
         entries = loo_entries(loo, lines, [name] * n, y, sd)
+    p_of = {m: dict(zip(loo["labels"].tolist(), pm.tolist(), strict=True)) for m, pm in by_model.items()}
     for en in entries:
         en["unit"] = "m" if heights else "m/s"
+        if p_of:
+            en["p_by_noise"] = {m: (float(pm[en["line"]]) if math.isfinite(pm[en["line"]]) else None)
+                                for m, pm in p_of.items()}
     name_outliers(summary, lines, loo["p"], "trial")
     return entries
+
+
+def _largest(p: np.ndarray, by_model: dict[str, np.ndarray]) -> np.ndarray:
+    """Per trial the largest p of the fit's own and of each noise model's (NaN, not judged, where any is)."""
+    out = np.asarray(p, dtype=float)
+    for pm in by_model.values():
+        out = np.maximum(out, pm)
+    return out
 
 
 def _law_weights(order: int, v: np.ndarray, e_i: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -441,34 +503,92 @@ def _noise_label(fr: RatioFit, opts: FitOptions, unit: str, s: Series, in_col: s
     return f"constant noise on {what}, estimated (Student's t)"
 
 
-def _goodness(fr: Any, x: np.ndarray, y: np.ndarray, w: np.ndarray) -> dict[str, Any]:
-    """Reduced χ² (σ given) and, where trials repeat an impact, the pure-error lack-of-fit F test."""
-    out: dict[str, Any] = {"reduced_chi2": None if fr.chi2 is None else fr.chi2 / fr.dof, "chi2_p": fr.chi2_p,
-                           "lack_of_fit": None}
-    levels, inv = np.unique(x, return_inverse=True)
-    if 1 < levels.size < x.size:
-        q = y / x
-        sspe = 0.0
-        for k in range(levels.size):
-            m = inv == k
-            qm = float(np.sum(w[m] * q[m]) / np.sum(w[m]))
-            sspe += float(np.sum(w[m] * (q[m] - qm) ** 2))
-        sse = float(np.sum(w * (q - fr.value) ** 2))
-        df1, df2 = levels.size - 1, x.size - levels.size
-        between = max(sse - sspe, 0.0)
-        if between <= 1e-12 * max(sse, 1e-300):  # the level means agree to rounding: no lack of fit to see
-            F, p_lof = 0.0, 1.0
-        elif sspe <= 1e-12 * sse:  # repeats agree exactly while the levels differ: the constant e is rejected
-            F, p_lof = 1e300, 0.0
-        else:
-            F = (between / df1) / (sspe / df2)
-            p_lof = float(stats.f.sf(F, df1, df2))
-        out["lack_of_fit"] = {"test": "pure error F", "F": F, "df": [df1, df2], "p": p_lof}
+def _exact_repeats(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Whether each row repeats an earlier row exactly, impact and outcome (a row copied twice, or a repeat
+    that read the same to the last digit)."""
+    seen: set[tuple[float, float]] = set()
+    out = np.zeros(x.size, bool)
+    for i, key in enumerate(zip(x.tolist(), y.tolist(), strict=True)):
+        out[i] = key in seen
+        seen.add(key)
     return out
+
+
+def _duplicates(summary: dict[str, Any], s: Series, x: np.ndarray, y: np.ndarray) -> None:
+    """Warn of rows that repeat others exactly when that looks like a copy: every row has an identical twin, or
+    the repeats of an impact agree only through them (at every impact measured more than once, all its rows are
+    identical). A few identical rows among repeats that otherwise scatter are what a reading to a coarse
+    resolution gives, and are not named."""
+    again = _exact_repeats(x, y)
+    if not again.any():
+        return
+    _, inv, counts = np.unique(x, return_inverse=True, return_counts=True)
+    _, twins = np.unique(np.stack([x, y]), axis=1, return_counts=True)
+    if twins.min() < 2 and any(np.ptp(y[inv == k]) > 0 for k in np.flatnonzero(counts > 1)):
+        return
+    lines = [str(s.lines[i]) for i in np.flatnonzero(again)]
+    lof = summary["goodness"]["lack_of_fit"]
+    out = " (the lack-of-fit test leaves them out)" if lof is not None and "exact_repeats_left_out" in lof else ""
+    warn(summary, Code.DUPLICATE, f"the rows on line(s) {', '.join(lines)} repeat other rows exactly (impact and "
+                                  f"outcome): copied twice? they are counted as separate trials{out}")
+
+
+def _goodness(fr: Any, x: np.ndarray, y: np.ndarray, w: np.ndarray) -> dict[str, Any]:
+    """Reduced χ² (σ given) and, where trials repeat an impact, the pure-error lack-of-fit F test. Rows that repeat
+    another exactly (impact and outcome: possibly copied) are left out of that test, so that a file copied twice
+    does not look like repeats that agree perfectly (with them out, c is refitted to what is left; no test when no
+    repeat is left), unless the impacts' means agree anyway (then there is no lack of fit, whatever the copies)."""
+    out: dict[str, Any] = {"reduced_chi2": None if fr.chi2 is None else fr.chi2 / fr.dof, "chi2_p": fr.chi2_p,
+                           "lack_of_fit": _pure_error(x, y, w, fr.value)}
+    again = _exact_repeats(x, y)
+    lof = out["lack_of_fit"]
+    if again.any() and not (lof is not None and lof["F"] == 0.0):
+        keep = ~again
+        c = float(np.sum(w[keep] * y[keep] / x[keep]) / np.sum(w[keep]))
+        lof = out["lack_of_fit"] = _pure_error(x[keep], y[keep], w[keep], c)
+        if lof is not None:
+            lof["exact_repeats_left_out"] = int(again.sum())
+    return out
+
+
+def _pure_error(x: np.ndarray, y: np.ndarray, w: np.ndarray, c: float) -> dict[str, Any] | None:
+    """The pure-error lack-of-fit F test of the constant ratio c (None when no impact repeats); an infinite F (the
+    repeats agree exactly while the impacts' means differ) is None, said in a note."""
+    levels, inv = np.unique(x, return_inverse=True)
+    if not 1 < levels.size < x.size:
+        return None
+    q = y / x
+    sspe = 0.0
+    for k in range(levels.size):
+        m = inv == k
+        qm = float(np.sum(w[m] * q[m]) / np.sum(w[m]))
+        sspe += float(np.sum(w[m] * (q[m] - qm) ** 2))
+    sse = float(np.sum(w * (q - c) ** 2))
+    df1, df2 = levels.size - 1, x.size - levels.size
+    between = max(sse - sspe, 0.0)
+    if between <= 1e-12 * max(sse, 1e-300):  # the level means agree to rounding: no lack of fit to see
+        return {"test": "pure error F", "F": 0.0, "df": [df1, df2], "p": 1.0}
+    if sspe <= 1e-12 * sse:  # repeats agree exactly while the levels differ: F is infinite
+        return {"test": "pure error F", "F": None, "df": [df1, df2], "p": 0.0,
+                "note": "the repeats agree exactly while the impacts' means differ (F infinite)"}
+    F = (between / df1) / (sspe / df2)
+    return {"test": "pure error F", "F": F, "df": [df1, df2], "p": float(stats.f.sf(F, df1, df2))}
+
+
+def _finite(v: float | None) -> bool:
+    """A statistic that can be printed as a number (the estimators mark an infinite one 1e300)."""
+    return v is not None and math.isfinite(v) and abs(v) < 1e300
+
+
+def _no_scatter(e_i: np.ndarray) -> bool:
+    """Every trial gives the same e (to rounding): there is no scatter to judge a speed dependence by."""
+    return bool(np.ptp(e_i) <= 1e-12 * float(np.max(np.abs(e_i))))
 
 
 def _test_text(t: Any) -> str:
     name = "F" if t.test == "F" else "Δχ²"
+    if not _finite(t.statistic):
+        return f"the higher order fits exactly, {name} infinite, p = {t.p:.2g}"
     return f"{name} = {t.statistic:.3g}, p = {t.p:.2g}"
 
 

@@ -18,7 +18,11 @@ from ...mechanics import plane
 from ...results import FigureSpec, layer
 from ...series import check_imprints, read_series
 from ..checks import (
+    CHI2_P,
+    G_HIGH,
+    G_LOW,
     Code,
+    chi2_given,
     leave_one_out,
     loo_entries,
     name_outliers,
@@ -250,8 +254,29 @@ def _check_clicks(summary: dict, s: dict, tt: np.ndarray, model: np.ndarray, fb:
     r = tt - model
     lines = np.asarray(s.lines)
     sig = 1.0 if sigma is None else sigma
-    loo = leave_one_out(r / sig, J / sig, lines, sigma_known=sigma is not None)
+    held = sigma is not None
+    if sigma is not None and fb.dof > 0:
+        red, p_chi2 = chi2_given(float(np.sum((r / sigma) ** 2)), fb.dof)
+        summary["goodness"] = {"reduced_chi2": red, "chi2_p": p_chi2}
+        if p_chi2 < CHI2_P:  # a σ the scatter contradicts would make every click an outlier: the scale is estimated
+            held = False
+            warn(summary, Code.CHI2, f"the scatter exceeds the given σ: reduced χ² = {red:.3g} (p = {p_chi2:.2g}); "
+                                     "the intervals from σ are too narrow (is σ in the clicks' unit, "
+                                     f"{s.unit_text['t']}?)")
+    loo = leave_one_out(r / sig, J / sig, lines, sigma_known=held)
     summary["leave_one_out"] = loo_entries(loo, lines, ["t"] * n, tt + s["t"][0], np.full(n, sig))
     name_outliers(summary, lines, loo["p"], "click")
     if sigma is None and fb.dof > 0:
         noise_plausible(summary, float(np.sqrt(r @ r / fb.dof)), NOISE_T, "the click instants", "s")
+    if h0 is not None:
+        msg = plausible_values(np.array([h0]), np.array([h0]), "drop-height", "length", None, f"--h0 {h0:g}", "m")
+        if msg:
+            warn(summary, Code.UNIT, msg.replace("(write the unit in the header, '_mm')", "(--h0 takes metres)")
+                 .replace("(write the unit in the header, '_cm')", "(--h0 takes metres)"))
+        g_row = next((f for f in summary["fits"] if f["id"] == "bounces.g"), None)
+        if g_row is not None and g_row["ci95"][0] is not None and not (
+                g_row["ci95"][0] <= G_HIGH and g_row["ci95"][1] >= G_LOW):
+            warn(summary, Code.RESULT, f"g = {g_row['value']:.4g} m/s² (95 %: {g_row['ci95'][0]:.4g}–"
+                                       f"{g_row['ci95'][1]:.4g}) is not gravity, {G_LOW:g}–{G_HIGH:g} m/s² anywhere "
+                                       "on Earth: --h0 (the drop height, in metres) or the clicks' unit is wrong")
+
