@@ -21,6 +21,9 @@ MAX_SPEED = 50.0  # m/s: the fastest launch the ricochet fits admit (fitting.PHY
 MOMENTUM_SIGMAS = 5.0  # a pendulum trial is refused when it breaks momentum by more than 5 σ of the imbalance
 MOMENTUM_SLACK = 0.10  # without σ: by more than 10 % of M V0 (or V1 exceeds V1′ by more than 10 % of V0)
 
+# a cell beyond these magnitudes is a typing or export slip whatever its unit (a fit would overflow on it)
+MIN_MAGNITUDE, MAX_MAGNITUDE = 1e-12, 1e12
+
 # Units a header may carry (``V0_mps``): per dimension, the SI unit first, then each unit's factor to SI.
 UNITS: dict[str, dict[str, float]] = {
     "length": {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 0.0254, "ft": 0.3048},
@@ -138,6 +141,10 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
                 raise InputError(f"{where}:{line_no}", f"{col}: expected a number{empty}, got '{cell}'") from None
             if not math.isfinite(v):
                 raise InputError(f"{where}:{line_no}", f"{col}: expected a finite number, got '{cell}'")
+            if v != 0 and not MIN_MAGNITUDE <= abs(v) <= MAX_MAGNITUDE:
+                raise InputError(f"{where}:{line_no}", f"{col}: {cell} is no measurement in any unit: expected a "
+                                                       f"magnitude between {MIN_MAGNITUDE:g} and {MAX_MAGNITUDE:g} "
+                                                       "(or 0)")
             if h in positive and v <= 0:
                 raise InputError(f"{where}:{line_no}", f"{col}: expected a positive number, got '{cell}'")
             if h in nonnegative and v < 0:

@@ -143,6 +143,8 @@ REFUSED = {
                                                   (f":{line(2)}:", "or an empty cell (not measured)")),
     "pendulum V1 and V1p swapped": ("pendulum", "pendulum.csv", header(["V0", "V1p", "V1", "M_g", "Mp_g"]), (),
                                     ("V1 and V1p swapped",)),
+    "rebound a value of 1e300 (an export slip)": ("rebound", "rebound.csv", scale(0, 1e300), (),
+                                                  (f":{line(0)}:", "is no measurement in any unit")),
     "ricochet instants in ms, no unit": ("ricochet", "ricochet.csv", scale(1, 1000.0), (),
                                          ("expected t in seconds",)),
     "rebound given a pendulum's file": ("rebound", "pendulum.csv", same, (),
