@@ -328,6 +328,7 @@ class Reading:
     name: str
     how: str  # the option or header that selects it
     misfit: float
+    result: str = ""  # what the fit gives when the data are read so, for the message
 
 
 CONVENTION_MARGIN = 10.0  # −2 log L lower by this much (a likelihood ratio of e⁵ ≈ 150) is "far better"
@@ -339,5 +340,6 @@ def better_reading(summary: dict[str, Any], as_read: float, others: Sequence[Rea
     if best is None or not (as_read - best.misfit > CONVENTION_MARGIN):
         return None
     warn(summary, Code.CONVENTION, f"the data fit far better read as {best.name} (−2 log-likelihood "
-                                   f"{best.misfit:.4g} against {as_read:.4g} as read): if so, {best.how}")
+                                   f"{best.misfit:.4g} against {as_read:.4g} as read"
+                                   f"{'; read so, ' + best.result if best.result else ''}): if so, {best.how}")
     return best

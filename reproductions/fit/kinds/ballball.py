@@ -214,8 +214,8 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     stage("conventions")
     others = _readings(s, cols)
     refits = fit_many([cols, *(r[2] for r in others)], canonical=False, **kw)
-    readings = [Reading(name, how, f.misfit() + jac) for (name, how, _, jac), f in zip(others, refits[1:],
-                                                                                       strict=True)]
+    readings = [Reading(name, how, f.misfit() + jac, f"f = {f.point[0]:.3g}, e = {f.point[1]:.3g}")
+                for (name, how, _, jac), f in zip(others, refits[1:], strict=True)]
     better_reading(summary, refits[0].misfit(), readings)
     summary["conventions"] = {"as_read": refits[0].misfit(), "readings": [
         {"reading": r.name, "misfit": r.misfit, "f": f.point[0], "e": f.point[1]}
