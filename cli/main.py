@@ -90,19 +90,49 @@ def list_cmd() -> None:
     out_console.print(t)
 
 
+WIDE_TABLE = 140  # columns: below, a table of many columns folds words mid-word; each row is then a record
+
+
+def _print_rows(title: str, headers: tuple[str, ...], rows: list[tuple[list[str], str]], lead: tuple[str, ...],
+                note_width: int = 60, lines: bool = False) -> None:
+    """Rows of cells (each with its style, for the ``verdict`` cell): a table on a wide console; on a narrow one
+    (or piped at 80 columns) a record per row, its ``lead`` cells as a heading and the others as ``label: value``
+    lines wrapped at words, so that no word is broken."""
+    if out_console.width >= WIDE_TABLE:
+        t = Table(title=title, show_lines=lines, title_justify="left")
+        for h in headers:
+            t.add_column(h, overflow="fold", max_width=note_width if h == "note" else None)
+        for cells, style in rows:
+            t.add_row(*(Text(c, style=style if h == "verdict" else "") for h, c in zip(headers, cells, strict=True)))
+        out_console.print(t)
+        return
+    out_console.print(Text(title, style="bold"))
+    for cells, style in rows:
+        by = dict(zip(headers, cells, strict=True))
+        head = Text()
+        for h in lead:
+            head += Text(f"[{by[h]}] ", style=style) if h == "verdict" else Text(by[h], style="bold")
+        out_console.print()
+        out_console.print(head)
+        grid = Table.grid(padding=(0, 1))
+        grid.add_column(style="dim", no_wrap=True)
+        grid.add_column(overflow="fold")
+        for h in headers:
+            if h not in lead and by[h]:
+                grid.add_row(f"  {h}", Text(by[h]))
+        out_console.print(grid)
+
+
 def _render(s: dict[str, Any]) -> None:
     """One experiment's full table (every row) and its fits."""
     from reproductions.report import HEADERS, row_cells
 
-    t = Table(title=f"{s['experiment']}: {s['title']}", show_lines=True, title_justify="left")
-    for h in HEADERS:
-        t.add_column(h, overflow="fold", max_width=60 if h == "note" else None)
-    for r in s["rows"]:
-        t.add_row(*(Text(c, style=VERDICT_STYLE.get(r["verdict"], "")) if h == "verdict" else Text(c)
-                    for h, c in zip(HEADERS, row_cells(r), strict=True)))
-    out_console.print(t)
+    _print_rows(f"{s['experiment']}: {s['title']}", HEADERS,
+                [(row_cells(r), VERDICT_STYLE.get(r["verdict"], "")) for r in s["rows"]], ("verdict", "quantity"),
+                lines=True)
     if s["fits"]:
-        out_console.print(_fits_table(s["fits"], "fits"))
+        out_console.print()
+        _print_fits(s["fits"], "fits")
 
 
 def _render_summary(summaries: list[dict[str, Any]], folders: list[Path]) -> None:
@@ -259,17 +289,16 @@ def _flat(v: list[Any]) -> list[Any]:
     return [y for x in v for y in (_flat(x) if isinstance(x, list) else [x])]
 
 
-def _fits_table(fits: list[dict[str, Any]], title: str) -> Table:
-    f = Table(title=title, title_justify="left")
-    for h in ("parameter", "value", "std. error", "95 % interval", "identifiable", "note"):
-        f.add_column(h, overflow="fold", max_width=60 if h == "note" else None)
+def _print_fits(fits: list[dict[str, Any]], title: str) -> None:
+    rows = []
     for x in fits:
         ci = x["ci95"]
-        f.add_row(Text(x["parameter"]), "—" if x["value"] is None else f"{x['value']:.6g}",
-                  "—" if x["stderr"] is None else f"{x['stderr']:.3g}",
-                  "—" if ci[0] is None else f"[{ci[0]:.4g}, {ci[1]:.4g}]", "yes" if x["identifiable"] else "no",
-                  Text(x["note"]))
-    return f
+        rows.append(([x["parameter"], "—" if x["value"] is None else f"{x['value']:.6g}",
+                      "—" if x["stderr"] is None else f"{x['stderr']:.3g}",
+                      "—" if ci[0] is None else f"[{ci[0]:.4g}, {ci[1]:.4g}]", "yes" if x["identifiable"] else "no",
+                      x["note"]], ""))
+    _print_rows(title, ("parameter", "value", "std. error", "95 % interval", "identifiable", "note"), rows,
+                ("parameter",))
 
 
 # ---- resal fit <kind> ----------------------------------------------------------------------------------------
@@ -526,18 +555,15 @@ def _check_fit_out(out: Path, data: Path) -> None:
 
 
 def _print_fit(s: dict[str, Any], folder: Path) -> None:
-    t = Table(title=f"resal fit {s['kind']}: {s['file']} ({s['n']} rows)", title_justify="left")
-    for h in ("parameter", "value", "std. error", "95 % interval", "bootstrap 95 %", "note"):
-        t.add_column(h, overflow="fold", max_width=50 if h == "note" else None)
-
     def ci(c: list | None) -> str:
         return "—" if not c or c[0] is None else f"[{c[0]:.4g}, {c[1]:.4g}]"
 
-    for f in s["fits"]:
-        t.add_row(Text(f["parameter"]), "—" if f["value"] is None else f"{f['value']:.6g}",
-                  "—" if f["stderr"] is None else f"{f['stderr']:.3g}", ci(f["ci95"]), ci(f.get("ci95_bootstrap")),
-                  Text(f["note"]))
-    out_console.print(t)
+    rows = [([f["parameter"], "—" if f["value"] is None else f"{f['value']:.6g}",
+              "—" if f["stderr"] is None else f"{f['stderr']:.3g}", ci(f["ci95"]), ci(f.get("ci95_bootstrap")),
+              f["note"]], "") for f in s["fits"]]
+    _print_rows(f"resal fit {s['kind']}: {s['file']} ({s['n']} rows)",
+                ("parameter", "value", "std. error", "95 % interval", "bootstrap 95 %", "note"), rows, ("parameter",),
+                note_width=50)
     from reproductions.fit.report import fit_lines
 
     lines = fit_lines(s, warnings=False)  # on stderr, after the table

@@ -161,3 +161,27 @@ def test_input_error_survives_pickling():
 
     err = pickle.loads(pickle.dumps(InputError("data.csv:3", "column 'x': expected a number")))
     assert (err.where, err.message) == ("data.csv:3", "column 'x': expected a number")
+
+
+@pytest.mark.parametrize("width", [80, 200])
+def test_an_experiment_reads_in_an_80_column_terminal_with_no_word_broken(tmp_path, width):
+    """At 80 columns each row is a record wrapped at words (a nine-column table broke 'measurement' into
+    'measur'/'ement'); at 200 it is the table. Either way every word of every note is printed whole."""
+    import re
+
+    from cli import main
+
+    before = main.out_console._width
+    main.out_console.width = width
+    try:
+        res = runner.invoke(app, ["reproduce", "marble-drop", "--out", str(tmp_path)])
+    finally:
+        main.out_console._width = before
+    assert res.exit_code == 0, res.output
+    assert max(len(ln.rstrip()) for ln in res.stdout.splitlines()) <= width
+    assert ("┃ quantity" in res.stdout) == (width >= main.WIDE_TABLE)
+    s = json.loads((tmp_path / "marble-drop" / "summary.json").read_text(encoding="utf-8"))
+    printed = set(re.findall(r"[A-Za-zÀ-ÿ]+", res.stdout))
+    words = {w for r in s["rows"] for w in re.findall(r"[A-Za-zÀ-ÿ]+", r["note"] + " " + r["quantity"])}
+    if width < main.WIDE_TABLE:
+        assert words <= printed, sorted(words - printed)
