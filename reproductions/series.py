@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import csv
 import math
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -161,17 +161,26 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
     return out
 
 
-def header_names(path: Path) -> tuple[int, set[str]]:
-    """The header's line and its column names without their units (``V0_mps`` → ``V0``), to tell which set of
-    columns a file holds; (0, ∅) when the file cannot be read (``read_series`` then says why)."""
+def header_names(path: Path, known: Collection[str] = ()) -> tuple[int, set[str]]:
+    """The header's line and its column names without their units (``V0_mps`` → ``V0``, ``obj_dir_deg`` →
+    ``obj_dir``; ``cue_speed`` kept: a suffix is a known unit, or follows a ``known`` column name, so that
+    ``V0_furlong`` is V0 with a unit ``read_series`` then refuses), to tell which set of columns a file holds;
+    (0, ∅) when the file cannot be read (``read_series`` then says why)."""
     try:
         text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError):
         return 0, set()
     for i, ln in enumerate(text.splitlines()):
         if ln.strip() and not ln.startswith("#"):
-            return i + 1, {h.strip().split("_")[0] for h in next(csv.reader([ln])) if h.strip()}
+            return i + 1, {_without_unit(h.strip(), known) for h in next(csv.reader([ln])) if h.strip()}
     return 0, set()
+
+
+def _without_unit(name: str, known: Collection[str]) -> str:
+    base, _, unit = name.rpartition("_")
+    if name in known or not base:
+        return name
+    return base if base in known or any(unit in units for units in UNITS.values()) else name
 
 
 def read_rebounds(path: Path, heights: bool) -> Series:

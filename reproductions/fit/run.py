@@ -8,11 +8,11 @@ line writes and draws.
 
 from __future__ import annotations
 
-import csv
 from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import InputError
+from ..series import header_names
 from .checks import check_g, finish
 from .kinds import KINDS, Kind
 from .kinds.ballball import fit_ballball
@@ -32,35 +32,17 @@ FITTERS: dict[str, Callable[[str, Path, FitOptions], FitOutcome]] = {
 
 # each kind's headers: (required, optional) column sets, without units; a header that is exactly another kind's is
 # named as such (a file given to the wrong kind), instead of a list of missing and unknown columns
-HEADERS: dict[str, tuple[tuple[frozenset[str], frozenset[str]], ...]] = {}
 _SPEED_SETS = ((frozenset({"V0", "V1"}), frozenset()), (frozenset({"u0", "u1"}), frozenset()))
 _HEIGHT_SETS = ((frozenset({"h0", "h1"}), frozenset()),)
-HEADERS.update({
+HEADERS: dict[str, tuple[tuple[frozenset[str], frozenset[str]], ...]] = {
     "rebound": _SPEED_SETS + _HEIGHT_SETS, "cushion": _SPEED_SETS, "drop": _HEIGHT_SETS + _SPEED_SETS,
     "pendulum": ((frozenset({"V0", "V1", "V1p"}), frozenset({"M", "Mp"})),
                  (frozenset({"h0", "h1", "h1p"}), frozenset({"M", "Mp"}))),
     "ricochet": ((frozenset({"x"}), frozenset({"t"})),),
     "bounces": ((frozenset({"t"}), frozenset()),),
     "ball-ball": ((frozenset({"v", "phi"}), frozenset({"cue_speed", "cue_dir", "obj_speed", "obj_dir"})),),
-})
+}
 _KNOWN = frozenset().union(*(r | o for sets in HEADERS.values() for r, o in sets))
-
-
-def _header(path: Path) -> tuple[int, list[str]] | None:
-    """The header's line and its column names without a unit suffix (``V0_cmps`` → ``V0``, ``cue_speed``
-    kept); None when the file has no readable header (the kind's reader then says why)."""
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError):
-        return None
-    for i, ln in enumerate(text.splitlines()):
-        if ln.strip() and not ln.startswith("#"):
-            names = []
-            for cell in (c.strip() for c in next(csv.reader([ln]))):
-                base = cell.rsplit("_", 1)[0] if cell not in _KNOWN and "_" in cell else cell
-                names.append(base)
-            return i + 1, names
-    return None
 
 
 def _fits(kind: str, names: set[str]) -> bool:
@@ -69,12 +51,8 @@ def _fits(kind: str, names: set[str]) -> bool:
 
 def other_kinds(kind: str, path: Path) -> tuple[int, list[str]] | None:
     """(line, kinds) when the header is exactly that of other kinds and not one of ``kind``'s."""
-    head = _header(path)
-    if head is None:
-        return None
-    line, names = head
-    found = set(names)
-    if not found <= _KNOWN or _fits(kind, found):
+    line, found = header_names(path, _KNOWN)
+    if not found or not found <= _KNOWN or _fits(kind, found):
         return None
     others = [k for k in HEADERS if k != kind and _fits(k, found)]
     return (line, others) if others else None

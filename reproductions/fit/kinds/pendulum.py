@@ -22,6 +22,7 @@ from ...mechanics import impact
 from ...results import FigureSpec, layer
 from ...series import Series, check_pendulum_trials, header_names, read_series
 from ..checks import (
+    CHI2_P,
     PLAUSIBLE,
     Code,
     leave_one_out,
@@ -55,7 +56,7 @@ DIMS_H = {"h0": "length", "h1": "length", "h1p": "length", "M": "mass", "Mp": "m
 
 
 def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
-    heights = "h0" in header_names(path)[1]
+    heights = "h0" in header_names(path, ("V0", "V1", "V1p", "h0", "h1", "h1p", "M", "Mp"))[1]
     if heights:
         s = read_series(path, ("h0", "h1", "h1p"), optional=("M", "Mp"), min_rows=2, positive=("h0", "M", "Mp"),
                         nonnegative=("h1", "h1p"), dims=DIMS_H)
@@ -162,7 +163,7 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         chi2 = float(np.sum((r_all / np.broadcast_to(np.asarray(sigma), r_all.shape)) ** 2))
         p_chi2 = float(stats.chi2.sf(chi2, fit.dof))
         summary["goodness"] = {"reduced_chi2": chi2 / fit.dof, "chi2_p": p_chi2}
-        if p_chi2 < 0.01:
+        if p_chi2 < CHI2_P:
             warn(summary, Code.CHI2, f"the scatter exceeds the given σ: reduced χ² = {chi2 / fit.dof:.3g} "
                                        f"(p = {p_chi2:.2g}); the intervals from σ are too narrow")
     _check_fit(summary, s, opts, fit, (M, Mp, V0, V1, V1p), sigma, sigma_in is not None, heights)

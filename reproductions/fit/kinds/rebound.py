@@ -25,6 +25,7 @@ from ...mechanics import impact
 from ...results import FigureSpec, layer
 from ...series import Series, header_names, read_series
 from ..checks import (
+    CHI2_P,
     Code,
     Reading,
     better_reading,
@@ -73,7 +74,7 @@ MARBLE_RATIO = ("Résal: a ball dropped on marble rises to 2/3 of its height, e 
 
 def _which(path: Path, kind: str, speeds: str | None) -> str:
     """Which set of columns the header holds: signed speeds, unsigned speeds or heights."""
-    line, names = header_names(path)
+    line, names = header_names(path, {c for cols in SETS.values() for c in cols})
     if len(names) > 1 and not {"V0", "V1", "u0", "u1", "h0", "h1"} & names:
         raise InputError(f"{path}:{line}", "the header names none of the columns of a rebound: expected V0,V1 "
                                            "(signed velocities), u0,u1 (speeds) or h0,h1 (heights), each with an "
@@ -263,7 +264,7 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     # speed dependence: the per-trial e against the impact speed, with the weights of the noise model
     w_e = np.asarray(fr.weights) * (p * max(e, 1e-12) ** (p - 1)) ** 2
     # a given σ that the scatter contradicts (χ² p < 1 %) cannot judge a law: the F tests estimate the scale instead
-    sigma_holds = fr.noise is Noise.GIVEN and not (fr.chi2_p is not None and fr.chi2_p < 0.01)
+    sigma_holds = fr.noise is Noise.GIVEN and not (fr.chi2_p is not None and fr.chi2_p < CHI2_P)
     law, tests, laws = select_law(v, e_i, w_e, absolute=sigma_holds)
     flat = _no_scatter(e_i)
     if flat:  # every trial gives the same e: each law fits exactly, and no F test has a scale to judge by
@@ -337,7 +338,7 @@ def _check_fit(summary: dict[str, Any], s: Series, fr: RatioFit, x: np.ndarray, 
     out_name = "h1" if heights else "|V1|"
     unit = s.unit_text[out_col]
     factor = s.factors[out_col]
-    contradicted = fr.chi2_p is not None and fr.chi2_p < 0.01
+    contradicted = fr.chi2_p is not None and fr.chi2_p < CHI2_P
     if contradicted:
         warn(summary, Code.CHI2, f"the scatter exceeds the given σ: reduced χ² = {fr.chi2 / fr.dof:.3g} "
                                  f"(p = {fr.chi2_p:.2g}); the interval from σ is too narrow")

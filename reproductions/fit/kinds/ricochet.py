@@ -104,7 +104,7 @@ def fit_ricochet(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     nu_, A_, u_, x0_ = fi.point
     P = plane.ricochet_ranges_spinless(nu_, A_, u_, opts.k, x.size - 1)
     model = x0_ + np.concatenate([[0.0], np.cumsum(P)])
-    _check_series(summary, s, x, model, fi, opts.k, t, opts.g)
+    _check_series(summary, s, x, model, fi, opts.k, t, ft if t is not None else None, opts.g)
     flights = np.arange(1, x.size)
     fig = FigureSpec("fit", "resal fit ricochet: the range of each flight, measured and fitted",
                      "flight number", "range (m)",
@@ -187,9 +187,13 @@ def fit_clicks(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
 def _instants(fb: FitResult, n: int, h0: float | None) -> np.ndarray:
     """t_i = t0 + T1 (1 − ν^i)/(1 − ν) at the fit's point (§III n°9), T1 = 2ν√(2 h0/g) when g was fitted."""
     p = dict(zip(fb.names, fb.point, strict=True))
-    T1 = p["T1"] if "T1" in p else 2 * p["nu"] * math.sqrt(2 * float(h0 or 0.0) / p["g"])
-    i = np.arange(n)
-    return p["t0"] + T1 * np.cumsum(np.concatenate([[0.0], p["nu"] ** i[:-1]]))
+    return bounce_instants(p["nu"], _first_flight(fb, h0), p["t0"], n)[0]
+
+
+def _first_flight(fb: FitResult, h0: float | None) -> float:
+    """T1 at the fit's point: fitted, or, when g was (ν, g, t0), T1 = 2ν√(2h0/g) (§III n°9)."""
+    p = dict(zip(fb.names, fb.point, strict=True))
+    return p["T1"] if "T1" in p else 2 * p["nu"] * math.sqrt(2 * float(h0 or 0.0) / p["g"])
 
 
 def _imprint_model(th: np.ndarray, k: float, n: int) -> np.ndarray:
@@ -199,7 +203,7 @@ def _imprint_model(th: np.ndarray, k: float, n: int) -> np.ndarray:
 
 
 def _check_series(summary: dict, s: dict, x: np.ndarray, model: np.ndarray, fi: FitResult, k: float,
-                  t: np.ndarray | None, g: float) -> None:
+                  t: np.ndarray | None, ft: FitResult | None, g: float) -> None:
     """A ricochet series checks itself: each imprint (and instant) predicted from the others (leave-one-out),
     the scatter against what such measurements plausibly have."""
     n = x.size
@@ -219,7 +223,7 @@ def _check_series(summary: dict, s: dict, x: np.ndarray, model: np.ndarray, fi: 
                                s.unit_text["t"])
         if msg:
             warn(summary, Code.UNIT, msg)
-        ft = fit_times(t, g=g, origin="fitted")
+        assert ft is not None  # the instants' fit, made beside the positions'
         nu, zeta1, t0 = ft.point
         mt, Jt = bounce_instants(nu, 2.0 * zeta1 / g, t0, n)
         Jt = Jt.copy()
@@ -247,10 +251,7 @@ def _check_clicks(summary: dict, s: dict, tt: np.ndarray, model: np.ndarray, fb:
     if msg:
         warn(summary, Code.UNIT, msg)
     p = dict(zip(fb.names, fb.point, strict=True))
-    T1 = p["T1"] if "T1" in p else None
-    if T1 is None:  # (ν, g, t0): the same instants through T1 = 2ν√(2h0/g)
-        T1 = 2 * p["nu"] * math.sqrt(2 * float(h0 or 0.0) / p["g"])
-    _, J = bounce_instants(p["nu"], T1, p["t0"], n)
+    _, J = bounce_instants(p["nu"], _first_flight(fb, h0), p["t0"], n)
     r = tt - model
     lines = np.asarray(s.lines)
     sig = 1.0 if sigma is None else sigma
