@@ -172,8 +172,9 @@ def reproduce(
                                                                   "experiment always does)")] = False,
 ) -> None:
     """Run experiments, compare every printed value, write tables and figures into OUT/<experiment>/ and the
-    paper's index, table and report.pdf into OUT. One experiment prints its full table; several, a summary."""
-    from reproductions import api, report
+    paper's index, table, reader's edition (index.html) and report.pdf into OUT. One experiment prints its full
+    table; several, a summary."""
+    from reproductions import api, edition, report
 
     folders: list[Path] = []
     try:
@@ -207,7 +208,7 @@ def reproduce(
                     if scratch is not None:
                         shutil.rmtree(scratch, ignore_errors=True)
                 summaries = [json.loads((f / "summary.json").read_text(encoding="utf-8")) for f in folders]
-                report.write_index(out)
+                edition.write_index(out)
     except InputError as err:
         _fail(err)
     except OSError as err:
@@ -227,8 +228,9 @@ def reproduce(
             _render(s)
     else:
         _render_summary(summaries, folders)
-    err_console.print(f"wrote {len(summaries)} experiment(s), {out / 'index.md'}, "
-                      f"{out / 'paper-table'}.{{md,csv,tex}} and {out / 'report.pdf'}", soft_wrap=True)
+    err_console.print(f"wrote {len(summaries)} experiment(s) and the reader's edition {out / 'index.html'} (on "
+                      f"paper: {out / 'report.pdf'}), with {out / 'index.md'} and "
+                      f"{out / 'paper-table'}.{{md,csv,tex}}", soft_wrap=True)
 
 
 @app.command()

@@ -276,6 +276,59 @@ def _e(x: float | None) -> str:
     return "—" if x is None else f"{x:.2e}"
 
 
+# the error measure of each model (``Model.error``): the outputs compared, over the scale that makes them relative
+_MEASURES = {
+    "direct-impact": "|ΔV1|, |ΔV′1| over the approach speed |V0 − V′0|",
+    "wall-impact": "|ΔV1| over the impact speed V0",
+    "plane-impact": "|Δχ1|, |Δζ1|, R|Δp1| over |(χ0, ζ0)| + R|p0|",
+    "ricochet": "the ranges, times, χ, ζ and Rp after each impact, over a0(1 + a0/g) + R|p0|",
+    "cloth-slide": "|Δt1| over V/(fg), |Δx1|, |Δy1| over V²/(fg), |Δv1| over V = |v0| + R|ω0| (onset of rolling)",
+    "cushion-impact": "|Δχ1|, |Δζ1|, R|Δp1|, R|Δn1| over |(χ0, ζ0)| + R|(p0, n0)|",
+    "spheres-free": "|Δv1|, R|Δω1|, |Δv′1|, R′|Δω′1| over the approach speed",
+    "spheres-cloth": "|Δv1|, R|Δω1|, |Δv′1|, R′|Δω′1| over the approach speed",
+    "cue-stroke": "|Δχ1|, |Δη1|, R|Δn1|, R|Δp1|, R|Δq1|, |ΔV′1| over the cue's speed V′0",
+}
+
+
+def _measure(model: str) -> str:
+    """What the x axis of a model's work-precision figure measures, in words."""
+    if model in _MEASURES:
+        return _MEASURES[model]
+    m = registry.MODELS[model]
+    return f"|Δ| of {', '.join(m.outputs)} over the model's speed scale"
+
+
+def _work_precision_figure(plt: Any, mod: dict, rtols: Sequence[float]) -> Any:
+    """One model's work-precision figure (``mod``: a model of the report): every path (dots) and auto (a ring),
+    every ODE solver over the tolerances (squares joined by a dashed line), each with a colour of its own; the
+    x axis says what the model's error measures. The caller saves and closes it."""
+    import textwrap
+
+    fig, ax = plt.subplots(figsize=(6, 4.4), layout="constrained")
+    solvers = list(dict.fromkeys(g["solver"] for g in mod["ode_grid"]))
+    n = len(mod["paths"]) + len(solvers)
+    cmap = plt.get_cmap("tab10" if n <= 10 else "tab20")
+    for i, r in enumerate(mod["paths"]):
+        e = r["all_scenes"]["max_error"]
+        style = ({"marker": "o", "mfc": "none", "mec": "k", "mew": 1.5, "ms": 11} if r["path"] == "auto" else
+                 {"marker": "o", "color": cmap(i), "ms": 7})
+        ax.loglog([max(e if e is not None else np.nan, 1e-17)], [r["seconds_per_scene"]], linestyle="none",
+                  label=f"{r['path']} ({r['kind']})", **style)
+    tol = " … ".join(f"{x:g}" for x in rtols)
+    for j, solver in enumerate(solvers):
+        pts = [(g["max_error"], g["seconds_per_scene"]) for g in mod["ode_grid"]
+               if g["solver"] == solver and g["max_error"] is not None]
+        if pts:
+            ax.loglog([max(e, 1e-17) for e, _ in pts], [t for _, t in pts], "--", marker="s", ms=4,
+                      color=cmap(len(mod["paths"]) + j), label=f"ODE, {solver}, rtol {tol}")
+    ax.set_xlabel("largest error over the scenes, against the reference:\n" + textwrap.fill(_measure(mod["model"]), 75),
+                  fontsize=9)
+    ax.set(ylabel="seconds per scene", title=f"Work-precision: {mod['model']}")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    return fig
+
+
 def write(report: dict, out: Path) -> list[Path]:
     """bench.json, bench.md and one work-precision figure per model (PNG and PDF)."""
     import matplotlib
@@ -304,24 +357,11 @@ def write(report: dict, out: Path) -> list[Path]:
         lines += ["", "Pareto verdict (per scene class that auto serves):", ""]
         lines += [f"- {v['auto_path']}, {v['regime']} ({v['scenes']} scenes): {v['verdict']}" for v in mod["pareto"]]
         lines.append("")
-        fig, ax = plt.subplots(figsize=(6, 4.2), layout="constrained")
-        for i, r in enumerate(mod["paths"]):
-            e = r["all_scenes"]["max_error"]
-            ax.loglog([max(e if e is not None else np.nan, 1e-17)], [r["seconds_per_scene"]], "o",
-                      color=f"C{i % 10}", label=f"{r['path']} ({r['kind']})")
-        for j, solver in enumerate(dict.fromkeys(g["solver"] for g in mod["ode_grid"])):
-            pts = [(g["max_error"], g["seconds_per_scene"]) for g in mod["ode_grid"]
-                   if g["solver"] == solver and g["max_error"] is not None]
-            if pts:
-                ax.loglog([max(e, 1e-17) for e, _ in pts], [t for _, t in pts], "--", marker=".", color=f"C{j + 5}",
-                          label=f"ODE, {solver}, rtol {' … '.join(f'{r:g}' for r in report['config']['rtols'])}")
-        ax.set(xlabel=f"max error against the reference ({mod['model']}'s measure)", ylabel="seconds per scene",
-               title=f"Work-precision: {mod['model']}")
-        ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=8)
+        fig = _work_precision_figure(plt, mod, report["config"]["rtols"])
         for ext in ("png", "pdf"):
             p = out / f"work-precision-{mod['model']}.{ext}"
-            fig.savefig(p, dpi=110, metadata={"Software": None} if ext == "png" else {"Creator": None})
+            fig.savefig(p, dpi=110, metadata={"Software": None} if ext == "png" else
+                        {"Creator": None, "Producer": None, "CreationDate": None})
             written.append(p)
         plt.close(fig)
     if "direct_impact_ode_tolerances" in report:

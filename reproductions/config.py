@@ -255,6 +255,29 @@ REASONS = {
 }
 
 
+# what a finding of the reader's edition says about the paper: the codes a `category:` may take
+FINDINGS = {
+    "erratum": "a slip of the 1883 original",
+    "formula": "a printed formula that cannot be right as it stands",
+    "premise": "a premise that fails where the paper applies it",
+    "beyond": "what the mechanics show that the paper does not say",
+    "holds": "what Résal got right",
+}
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One sentence for the reader's edition, with the rows (and optionally the figure) that carry it."""
+
+    id: str
+    category: str  # a code of FINDINGS
+    consequence: int  # 1 (a detail) … 5 (changes what the paper teaches): the first screen ranks by it
+    text: str
+    rows: tuple[str, ...]  # printed ids of the same experiment
+    figure: str | None  # a figure name of the experiment (without extension)
+    where: str
+
+
 @dataclass(frozen=True)
 class Experiment:
     id: str
@@ -268,6 +291,29 @@ class Experiment:
     path: str
     sha256: str
     notes: tuple[str, ...] = field(default=())
+    question: str = ""  # the question the experiment answers, for the reader's edition
+    findings: tuple[Finding, ...] = field(default=())
+
+
+def _finding(node: Node, printed_ids: set[str]) -> Finding:
+    fid = node.string("id")
+    category = node.string("category", choices=tuple(FINDINGS))
+    consequence = node.integer("consequence", "an integer from 1 (a detail) to 5 (changes what the paper teaches)",
+                               lo=1)
+    if consequence > 5:
+        raise node.fail(f"'{node.path}.consequence' must be from 1 to 5, got {consequence}",
+                        node._mapping()["consequence"])
+    text = node.string("text")
+    rows = node.string_list("rows")
+    if not rows:
+        raise node.fail(f"'{node.path}.rows' must name at least one printed id that carries the finding")
+    unknown = [r for r in rows if r not in printed_ids]
+    if unknown:
+        raise node.fail(f"'{node.path}.rows' names {', '.join(unknown)}, which are not printed ids of this file",
+                        node._mapping()["rows"])
+    figure = node.string("figure") if node.has("figure") else None
+    node.done()
+    return Finding(fid, category, consequence, text, rows, figure, node.where())
 
 
 def _tolerance(value: float, exact: bool, raw: str) -> tuple[float, str]:
@@ -375,6 +421,11 @@ def load_experiment(path: str | Path, kinds: Mapping[str, Any]) -> Experiment:
             raise InputError(x.where, f"printed ids must be unique; repeated: {x.id}")
         seen.add(x.id)
     notes = root.string_list("notes")
+    question = root.string("question", default="")
+    findings = tuple(_finding(n, seen) for n in root.children("findings")) if root.has("findings") else ()
+    fids = [f.id for f in findings]
+    if len(set(fids)) != len(fids):
+        raise root.fail(f"finding ids must be unique; repeated: {sorted({f for f in fids if fids.count(f) > 1})}")
     root.done()
     return Experiment(eid, kind, title, source, printed, params, seed, modern, file,
-                      hashlib.sha256(raw).hexdigest(), notes)
+                      hashlib.sha256(raw).hexdigest(), notes, question, findings)

@@ -11,10 +11,8 @@ stamps or software versions.
 from __future__ import annotations
 
 import csv
-import functools
 import hashlib
 import io
-import itertools
 import json
 import math
 import os
@@ -44,14 +42,12 @@ __all__ = [
     "paper_rows",
     "parse_source",
     "provenance",
-    "report_pdf",
     "row_cells",
     "staging_name",
     "summary",
     "today_value",
     "verdict_counts",
     "write_folder",
-    "write_index",
     "write_reproduction",
 ]
 
@@ -107,7 +103,13 @@ def summary(rep: Reproduction, prov: dict[str, Any] | None = None) -> dict[str, 
                     "note": t.note} for t in rep.tables],
         "modern": [dict(m) for m in rep.modern],
         "figures": _figure_files(rep),
+        "figure_captions": [{"png": f"{f.name}.png", "title": f.title, "caption": f.reading} for f in rep.figures],
         "notes": list(e.notes),
+        "question": e.question,
+        "findings": [{"id": f.id, "category": f.category, "consequence": f.consequence, "text": f.text,
+                      "rows": list(f.rows), "figure": f.figure,
+                      "config_line": int(f.where.rsplit(":", 1)[1]) if ":" in f.where else None}
+                     for f in e.findings],
         "provenance": prov if prov is not None else {},
     }
 
@@ -224,50 +226,171 @@ def table_tex(s: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+_FIG_W, _FIG_H = 6.4, 4.6  # inches: one panel; each further row of panels adds _ROW_H
+_ROW_H = 1.6
+_LINESTYLES = {"-": "solid", "--": "dashed", ":": "dotted", "-.": "dashdot"}
+
+
+def _colour(c: str) -> Any:
+    """A layer's colour: a matplotlib colour, or ``<colour map>:<t>`` (the map's colour at t in [0, 1])."""
+    if ":" not in c:
+        return c
+    import matplotlib
+
+    name, t = c.rsplit(":", 1)
+    return matplotlib.colormaps[name](float(t))
+
+
+def _draw_layers(fig: Any, ax: Any, spec: FigureSpec, legend: str) -> list[tuple[Any, list[float], list[float]]]:
+    """Draw one panel's layers on ``ax``, its key at ``legend`` (none: "below"); returns the markers (artist, x, y)
+    that may overlap the frame."""
+    import numpy as np
+
+    markers = []
+    for ly in spec.layers:
+        color = _colour(ly.color)
+        if ly.kind == "line":
+            ax.plot(ly.x, ly.y, ly.style, color=color, label=ly.label)
+        elif ly.kind == "points":
+            (art,) = ax.plot(ly.x, ly.y, linestyle="none", marker=ly.marker, color=color, label=ly.label, ms=7)
+            markers.append((art, list(ly.x), list(ly.y)))
+        elif ly.kind == "band":
+            ax.fill_between(ly.x, ly.y, ly.y2, color=color, alpha=0.2, label=ly.label, lw=0)
+        elif ly.kind == "vband":
+            ax.axvspan(ly.x[0], ly.x[1], color=color, alpha=0.15, label=ly.label, lw=0)
+        elif ly.kind == "hband":
+            ax.axhspan(ly.y[0], ly.y[1], color=color, alpha=0.15, label=ly.label, lw=0)
+        elif ly.kind == "errorbar":
+            ax.errorbar(ly.x, ly.y, yerr=ly.y2, fmt=ly.marker, color=color, label=ly.label, capsize=3)
+        elif ly.kind == "heatmap":
+            z = np.asarray(ly.z, dtype=float)
+            norm, cmap = None, "viridis"
+            if ly.centre is not None:  # a signed quantity: a diverging map whose middle colour is the centre
+                from matplotlib.colors import CenteredNorm, TwoSlopeNorm
+
+                lo, hi = float(np.nanmin(z)), float(np.nanmax(z))
+                norm = TwoSlopeNorm(ly.centre, lo, hi) if lo < ly.centre < hi else CenteredNorm(ly.centre)
+                cmap = "RdBu"
+            dx, dy = (ly.x[1] - ly.x[0]) / 2, (ly.y[1] - ly.y[0]) / 2  # a regular grid: drawn as one image
+            img = ax.imshow(z, origin="lower", aspect="auto", cmap=cmap, norm=norm, interpolation="nearest",
+                            extent=(ly.x[0] - dx, ly.x[-1] + dx, ly.y[0] - dy, ly.y[-1] + dy))
+            bar = fig.colorbar(img, ax=ax, label=ly.label)
+            if ly.centre is not None:
+                bar.ax.axhline(ly.centre, color="k", lw=0.8)
+        elif ly.kind == "contour":  # the curve z = 0, interpolated on the grid
+            z = np.asarray(ly.z, dtype=float)
+            if np.nanmin(z) < 0.0 < np.nanmax(z):
+                ax.contour(ly.x, ly.y, z, levels=[0.0], colors=[color], linestyles=[_LINESTYLES.get(ly.style, "solid")],
+                           linewidths=1.5)
+            if ly.label:  # a contour set has no legend entry of its own
+                ax.plot([], [], ly.style, color=color, label=ly.label)
+        else:
+            raise ValueError(f"unknown layer kind {ly.kind!r}")
+    ax.set_yscale(spec.yscale)
+    if spec.xlim:
+        ax.set_xlim(*spec.xlim)
+    if spec.ylim:
+        ax.set_ylim(*spec.ylim)
+    if spec.xticklabels:
+        ax.set_xticks(range(len(spec.xticklabels)), spec.xticklabels)
+    if spec.yticklabels:
+        ax.set_yticks(range(len(spec.yticklabels)), spec.yticklabels)
+    ax.grid(alpha=0.3)
+    if legend != "below" and any(ly.label and ly.kind != "heatmap" for ly in spec.layers):
+        ax.legend(fontsize=8, loc=legend)
+    return markers
+
+
+def _legend_below(fig: Any, axes: list[Any]) -> None:
+    """One key for the whole figure, under the axes (which give up the room it takes)."""
+    found: dict[str, Any] = {}
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            found.setdefault(label, handle)
+    if not found:
+        return
+    width = max(0.45 + 0.056 * len(label) for label in found)  # inches at 8 pt: the handle and the text
+    ncols = max(1, min(len(found), int((_FIG_W - 0.3) // width)))
+    leg = fig.legend(list(found.values()), list(found), loc="lower center", bbox_to_anchor=(0.5, 0.0), ncols=ncols,
+                     fontsize=8, frameon=False)
+    height = leg.get_window_extent(fig.canvas.get_renderer()).height / fig.bbox.height
+    fig.subplots_adjust(bottom=fig.subplotpars.bottom + height + 0.08 / fig.get_figheight())  # 0.08 in: a gap
+
+
+def _fit_margins(fig: Any) -> None:
+    """Widen the fixed margins where the axes' labels would be cut by the figure's edge (long tick labels):
+    the text of the axes is measured, not laid out again."""
+    renderer = fig.canvas.get_renderer()
+    W, H, pad = fig.bbox.width, fig.bbox.height, 4.0
+    ys = [b for b in (a.yaxis.get_tightbbox(renderer) for a in fig.axes) if b is not None]
+    xs = [b for b in (a.xaxis.get_tightbbox(renderer) for a in fig.axes) if b is not None]
+    x0, x1 = min((b.x0 for b in ys), default=pad), max((b.x1 for b in ys), default=W - pad)
+    y0 = min((b.y0 for b in xs), default=pad)
+    sp = fig.subplotpars
+    fig.subplots_adjust(left=sp.left + max(0.0, pad - x0) / W, right=sp.right - max(0.0, x1 - (W - pad)) / W,
+                        bottom=sp.bottom + max(0.0, pad - y0) / H)
+
+
 def _draw(spec: FigureSpec, folder: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    fig = _render(spec)
+    # the title goes into the PNG too: report.pdf heads the figure's page with it
+    fig.savefig(folder / f"{spec.name}.png", dpi=120, metadata={"Software": None, "Title": spec.title})
+    fig.savefig(folder / f"{spec.name}.pdf", metadata={"Creator": None, "Producer": None, "CreationDate": None})
+    plt.close(fig)
+
+
+def _render(spec: FigureSpec) -> Any:
+    """The matplotlib figure of a spec, laid out (the caller saves and closes it)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    if spec.panels and spec.layers:
+        raise ValueError(f"figure {spec.name!r}: layers of its own and panels (put them in a panel)")
+    panels = spec.panels or (spec,)
+    cols = max(1, min(spec.columns, len(panels)))
+    nrows = -(-len(panels) // cols)
+    height = _FIG_H + _ROW_H * (nrows - 1)
     # fixed margins, not a layout solve: the solve took a third of each figure's time (make all: 19 figures)
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    fig.subplots_adjust(left=0.12, right=0.96, bottom=0.11, top=0.84 if spec.caption else 0.88)
-    for ly in spec.layers:
-        if ly.kind == "line":
-            ax.plot(ly.x, ly.y, ly.style, color=ly.color, label=ly.label)
-        elif ly.kind == "points":
-            ax.plot(ly.x, ly.y, linestyle="none", marker=ly.marker, color=ly.color, label=ly.label, ms=7)
-        elif ly.kind == "band":
-            ax.fill_between(ly.x, ly.y, ly.y2, color=ly.color, alpha=0.2, label=ly.label, lw=0)
-        elif ly.kind == "vband":
-            ax.axvspan(ly.x[0], ly.x[1], color=ly.color, alpha=0.15, label=ly.label, lw=0)
-        elif ly.kind == "hband":
-            ax.axhspan(ly.y[0], ly.y[1], color=ly.color, alpha=0.15, label=ly.label, lw=0)
-        elif ly.kind == "errorbar":
-            ax.errorbar(ly.x, ly.y, yerr=ly.y2, fmt=ly.marker, color=ly.color, label=ly.label, capsize=3)
-        elif ly.kind == "heatmap":
-            dx, dy = (ly.x[1] - ly.x[0]) / 2, (ly.y[1] - ly.y[0]) / 2  # a regular grid: drawn as one image
-            img = ax.imshow(ly.z, origin="lower", aspect="auto", cmap="viridis", interpolation="nearest",
-                            extent=(ly.x[0] - dx, ly.x[-1] + dx, ly.y[0] - dy, ly.y[-1] + dy))
-            fig.colorbar(img, ax=ax, label=ly.label)
-        else:
-            raise ValueError(f"unknown layer kind {ly.kind!r}")
+    fig, grid = plt.subplots(nrows, cols, figsize=(_FIG_W, height), squeeze=False, sharex=len(panels) > 1,
+                             sharey=spec.sharey, gridspec_kw={"height_ratios": list(spec.heights) or None})
+    if not spec.panels:
+        fig.subplots_adjust(left=0.12, right=0.96, bottom=0.11, top=0.84 if spec.caption else 0.88)
+    else:
+        headed = any(p.title for p in panels)
+        top = (0.16 if spec.caption else 0.12) * _FIG_H + (0.22 if headed else 0.0)
+        fig.subplots_adjust(left=0.12, right=0.96, bottom=0.11 * _FIG_H / height, top=1 - top / height,
+                            hspace=0.25 if headed else 0.1, wspace=0.08 if spec.sharey else 0.3)
+    axes = list(grid.flat)
+    markers = []
+    for j, (ax, p) in enumerate(zip(axes, panels, strict=False)):
+        markers += _draw_layers(fig, ax, p, spec.legend)
+        below = j + cols < len(panels)  # another panel under this one: it carries the x axis' labels
+        ax.set(xlabel="" if below else p.xlabel or spec.xlabel,
+               ylabel="" if spec.sharey and j % cols else p.ylabel or spec.ylabel)
+        if not below:
+            ax.tick_params(labelbottom=True)
+        if spec.panels and p.title:
+            ax.set_title(p.title, fontsize=9)
+    for ax in axes[len(panels):]:
+        ax.remove()
     fig.suptitle(spec.title)
-    if spec.caption:
-        ax.set_title(spec.caption, fontsize=7, color="0.3", wrap=True)
-    ax.set(xlabel=spec.xlabel, ylabel=spec.ylabel)
-    if spec.xlim:
-        ax.set_xlim(*spec.xlim)
-    if spec.ylim:
-        ax.set_ylim(*spec.ylim)
-    ax.grid(alpha=0.3)
-    if any(ly.label and ly.kind != "heatmap" for ly in spec.layers):
-        ax.legend(fontsize=8, loc="best")
-    # the title goes into the PNG too: report.pdf heads the figure's page with it
-    fig.savefig(folder / f"{spec.name}.png", dpi=120, metadata={"Software": None, "Title": spec.title})
-    fig.savefig(folder / f"{spec.name}.pdf", metadata={"Creator": None, "Producer": None, "CreationDate": None})
-    plt.close(fig)
+    if spec.caption and not spec.panels:
+        axes[0].set_title(spec.caption, fontsize=7, color="0.3", wrap=True)
+    elif spec.caption:
+        fig.text(0.5, 1 - 0.52 / height, spec.caption, fontsize=7, color="0.3", ha="center", va="center", wrap=True)
+    if spec.legend == "below":
+        _legend_below(fig, axes[:len(panels)])
+    _fit_margins(fig)
+    for art, xs, ys in markers:  # a marker on the frame is drawn whole, not cut in half by the axes' clip
+        (xa, xb), (ya, yb) = sorted(art.axes.get_xlim()), sorted(art.axes.get_ylim())
+        if all(xa <= x <= xb for x in xs) and all(ya <= y <= yb for y in ys):
+            art.set_clip_on(False)
+            art.set_zorder(2.6)  # above the frame's spines
+    return fig
 
 
 STAGING_PREFIX = ".resal-"
@@ -456,9 +579,10 @@ def _summaries(out: Path) -> list[tuple[str, dict[str, Any]]]:
 # -- the paper as a whole: index.md, paper-table.{md,csv,tex}, report.pdf ---------------------------------------
 VERDICTS = ("reproduced", "differs", "not-checkable")
 PAPER_HEADERS = ("experiment", "section", "n°", "equation", "line", "id", "claim", "printed", "computed",
-                 "rel. diff", "verdict", "reason", "today's value")
+                 "difference", "tolerance", "verdict", "reason", "note", "today's value")
 PAPER_CSV = ("experiment", "section", "n", "equation", "line", "id", "claim", "printed", "printed_value", "computed",
-             "rel_diff", "tolerance", "verdict", "reason", "note", "today_symbol", "today")
+             "rel_diff", "abs_diff", "tolerance", "tolerance_text", "tolerance_rule", "verdict", "reason", "note",
+             "today_symbol", "today")
 # a row's source: "§II n°7, eq. (3)", "§III n°8-10", "§V n°12, eqs (5), (8)", "§III n°10, footnote"
 _SOURCE_RE = re.compile(r"§\s*(?P<section>[IVXLC]+)\s*n°\s*(?P<n>\d+(?:\s*[-–]\s*\d+)?)(?:\s*,\s*(?P<eq>[^§]*?))?\s*")
 # "Mathavan, Jackson & Parkin 2009, Am. J. Phys. …" → "Mathavan 2009": a name, then other names up to a year
@@ -520,17 +644,50 @@ def paper_rows(summaries: Iterable[tuple[str, dict[str, Any]]]) -> list[dict[str
     return sorted(found, key=lambda x: (x["row"].get("line") is None, x["row"].get("line") or 0))
 
 
+def computed_text(r: dict[str, Any]) -> str:
+    """The computed cell for people: a formula row's number is its discrepancy from the reference, so say so."""
+    if r["printed"] is None and r.get("tolerance") is not None and r["computed"] is not None:
+        return f"discrepancy {_fmt(r['computed'], 2)}"
+    return _fmt(r["computed"])
+
+
+def difference_text(r: dict[str, Any]) -> str:
+    """Printed against computed: relative in %, absolute (Δ) where the printed value is zero, "—" where none."""
+    if r["printed"] is None or r["computed"] is None or r["rel_diff"] is None:
+        return "—"
+    if r["printed"] == 0:
+        return f"Δ = {r['computed'] - r['printed']:+.3g} (printed 0)"
+    return _rel(r["rel_diff"])
+
+
+def tolerance_text(r: dict[str, Any]) -> str:
+    """The tolerance a row is judged with: a bound on a formula's discrepancy, absolute for a printed zero, else
+    relative."""
+    tol = r.get("tolerance")
+    if tol is None:
+        return "—"
+    if r["printed"] is None:
+        return f"discrepancy ≤ {tol:.2g}"
+    if r["printed"] == 0:
+        return f"|Δ| ≤ {tol:.2g}"
+    return f"±{tol:.3g} (relative)" if tol < 1e-4 else f"±{tol * 100:.3g} %"
+
+
 def _paper_cells(x: dict[str, Any]) -> list[str]:
     r = x["row"]
     return [x["experiment"], x["section"], x["n"], x["equation"], _fmt(r.get("line"), 9), r["id"], r["quantity"],
-            r["printed_text"], _fmt(r["computed"]), _rel(r["rel_diff"]), r["verdict"], r.get("reason") or "",
-            x["today"]]
+            r["printed_text"], computed_text(r), difference_text(r), tolerance_text(r), r["verdict"],
+            r.get("reason") or "", r["note"], x["today"]]
 
 
 def paper_table_md(rows: list[dict[str, Any]]) -> str:
     return "\n".join(["# Every printed value of Résal (1883), in the paper's order\n",
                       "By line of the digitised text (`line`); rows not yet given a line follow, in experiment order. "
-                      "`reason` says why a row that differs differs (see `configs/README.md`).\n",
+                      "`difference` is relative (computed − printed)/|printed|, or absolute (Δ) where the paper prints "
+                      "zero; a printed formula's row gives its largest discrepancy from a numerical reference. "
+                      "`tolerance` is what the row is judged with (the tolerance rule is in the CSV and in "
+                      "index.html). `reason` says why a row that differs differs (see `configs/README.md`); `note` "
+                      "says what the computed number is and what was found.\n",
                       _md_table(PAPER_HEADERS, (_paper_cells(x) for x in rows))])
 
 
@@ -540,15 +697,17 @@ def paper_table_csv(rows: list[dict[str, Any]]) -> str:
     w.writerow(PAPER_CSV)
     for x in rows:
         r = x["row"]
+        zero = r["printed"] == 0 and r["rel_diff"] is not None
         w.writerow([_csv_cell(v) for v in (
             x["experiment"], x["section"], x["n"], x["equation"], r.get("line"), r["id"], r["quantity"],
-            r["printed_text"], r["printed"], r["computed"], r["rel_diff"], r["tolerance"], r["verdict"],
-            r.get("reason"), r["note"], r.get("today"), x["today"])])
+            r["printed_text"], r["printed"], r["computed"], None if zero else r["rel_diff"],
+            r["rel_diff"] if zero else None, r["tolerance"], tolerance_text(r), r.get("tolerance_rule"),
+            r["verdict"], r.get("reason"), r["note"], r.get("today"), x["today"])])
     return buf.getvalue()
 
 
 def paper_table_tex(rows: list[dict[str, Any]]) -> str:
-    cols = "lllllp{4.5cm}p{3cm}lllll" + "p{3cm}"
+    cols = "lllllp{3.5cm}p{2.5cm}lllllp{4cm}p{2cm}"
     tex = [r"% Every printed value of Résal (1883) (resal), in the paper's order; needs \usepackage{booktabs, "
            r"longtable} and UTF-8 input",
            r"\begin{longtable}{" + cols + "}", r"\toprule",
@@ -582,8 +741,10 @@ def index_md(summaries: list[tuple[str, dict[str, Any]]]) -> str:
     all_rows = [r for _, s in summaries for r in s["rows"]]
     verdicts, reasons = verdict_counts(all_rows)
     out = ["# resal: results\n",
-           "Reproduction of H. Résal (1883), *Commentaire à la théorie mathématique du jeu de billard*. One folder "
-           "per experiment; `summary.json` holds every number; [paper-table.md](paper-table.md) "
+           "Reproduction of H. Résal (1883), *Commentaire à la théorie mathématique du jeu de billard*. "
+           "[index.html](index.html) is the reader's edition (the findings first, then every row with its note, "
+           "filterable). One folder per experiment; `summary.json` holds every number; "
+           "[paper-table.md](paper-table.md) "
            "([csv](paper-table.csv), [tex](paper-table.tex)) lists every printed value in the paper's order, and "
            "[report.pdf](report.pdf) gathers this index, that table and every figure.\n",
            "## Verdicts\n",
@@ -606,222 +767,3 @@ def index_md(summaries: list[tuple[str, dict[str, Any]]]) -> str:
                    f"[csv]({name}/table.csv) · [tex]({name}/table.tex) · [json]({name}/summary.json).\n")
         out += [f"![{name}/{f}]({name}/{f})\n" for f in s["figures"] if f.endswith(".png")]
     return "\n".join(out)
-
-
-# report.pdf: A4 landscape pages of monospace text, then every figure's PNG on a page of its own. The text is text
-# (searchable, and what tests/test_paper_report.py reads back): runs of characters that the PDF core font Courier
-# has (cp1252) are written as plain strings in it — nothing embedded, no glyph layout, ten times faster than an
-# embedded font, which made the table pages cost seconds — and the other runs (Greek, primes, ≤, ₂) in DejaVu Sans
-# Mono, embedded, each run placed on the character grid. No date or software version is written: same bytes.
-_PDF_META = {"Creator": None, "Producer": None, "CreationDate": None}
-_PAGE = (11.69, 8.27)  # inches
-_PT = 6.0  # table font size (points)
-_ADVANCE = 0.6  # em: Courier's advance (DejaVu Sans Mono's is 0.602)
-_LEAD = 1.3 * _PT / 72 / _PAGE[1]  # one line, in figure height
-_LEFT, _RIGHT, _TOP, _BOTTOM = 0.03, 0.97, 0.925, 0.045
-_COLOUR = {"reproduced": "black", "differs": "#b00000", "not-checkable": "#8a6400"}
-@functools.cache
-def _courier_has(ch: str) -> bool:
-    """Whether the PDF core font Courier (WinAnsi, i.e. cp1252) has the character."""
-    try:
-        ch.encode("cp1252")
-    except UnicodeEncodeError:
-        return False
-    return True
-
-
-@functools.cache
-def _embedded_text() -> type:
-    """A Text drawn in an embedded font while the page's other text uses the PDF core fonts (matplotlib reads
-    ``pdf.use14corefonts`` as it measures and draws each text)."""
-    from matplotlib import rcParams
-    from matplotlib.text import Text
-
-    class Embedded(Text):
-        def draw(self, renderer: Any) -> None:
-            old = rcParams["pdf.use14corefonts"]
-            rcParams["pdf.use14corefonts"] = False
-            try:
-                super().draw(renderer)
-            finally:
-                rcParams["pdf.use14corefonts"] = old
-
-    return Embedded
-
-
-def _chars(size: float = _PT) -> int:
-    """How many characters of ``size`` points fit between the margins."""
-    return int((_RIGHT - _LEFT) * _PAGE[0] * 72 / (_ADVANCE * size))
-
-
-def _line(fig: Any, x: float, y: float, text: str, size: float = _PT, weight: str = "normal",
-          color: str = "black") -> None:
-    """One line of monospace text at (x, y) (figure fraction, baseline) on the character grid: what Courier has
-    as one string in it (blanks where the others go), each run of the others in DejaVu Sans Mono at its place."""
-    from matplotlib.text import Text
-
-    step = _ADVANCE * size / 72 / _PAGE[0]
-    props = {"fontsize": size, "parse_math": False, "color": color, "transform": fig.transFigure}
-    core = "".join(c if _courier_has(c) else " " for c in text).rstrip()
-    if core.strip():
-        lead = len(core) - len(core.lstrip())
-        fig.add_artist(Text(x + lead * step, y, core.lstrip(), family="Courier",
-                            weight="bold" if weight == "bold" else "medium", **props))
-    start = 0
-    for has, group in itertools.groupby(text, _courier_has):
-        run = "".join(group)
-        if not has:
-            fig.add_artist(_embedded_text()(x + start * step, y, run, family="DejaVu Sans Mono", weight=weight,
-                                            **props))
-        start += len(run)
-
-
-def _cell(text: str, width: int, lines: int = 3) -> list[str]:
-    """``text`` wrapped to ``width`` characters on at most ``lines`` lines, the last cut with '…'."""
-    import textwrap
-
-    wrapped = textwrap.wrap(" ".join(str(text).split()), width, break_long_words=True) or [""]
-    if len(wrapped) > lines:
-        wrapped = [*wrapped[:lines - 1], wrapped[lines - 1][:width - 1] + "…"]
-    return wrapped
-
-
-def _block(cells: list[list[str]], widths: list[int]) -> list[str]:
-    """Cells (each a list of lines) side by side, padded to their widths."""
-    return [" ".join(c[i].ljust(w) if i < len(c) else " " * w for c, w in zip(cells, widths, strict=True)).rstrip()
-            for i in range(max(len(c) for c in cells))]
-
-
-def _page(title: str) -> Any:
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=_PAGE)
-    _line(fig, _LEFT, 0.955, title, size=10, weight="bold")
-    return fig
-
-
-def _text_pages(pdf: Any, title: str, header: list[str], blocks: list[tuple[list[str], str]]) -> None:
-    """Blocks of text lines (each with its colour) on as many pages as they need, never split across pages,
-    shaded every other block, each page with the title, the header and its page number."""
-    from matplotlib.patches import Rectangle
-
-    room = int((_TOP - _BOTTOM) / _LEAD) - len(header) - 1
-    pages: list[list[tuple[list[str], str]]] = [[]]
-    used = 0
-    for b in blocks:
-        if pages[-1] and used + len(b[0]) > room:
-            pages.append([])
-            used = 0
-        pages[-1].append(b)
-        used += len(b[0])
-    for k, page in enumerate(pages):
-        fig = _page(title)
-        number = f"{k + 1}/{len(pages)}"
-        _line(fig, _LEFT, 0.02, number.rjust(_chars()))
-        y = _TOP
-        for ln in header:
-            _line(fig, _LEFT, y - 0.8 * _LEAD, ln, weight="bold")
-            y -= _LEAD
-        y -= _LEAD / 2
-        for i, (lines, colour) in enumerate(page):
-            if i % 2:
-                fig.add_artist(Rectangle((_LEFT - 0.004, y - len(lines) * _LEAD - 0.2 * _LEAD),
-                                         _RIGHT - _LEFT + 0.008, len(lines) * _LEAD, transform=fig.transFigure,
-                                         color="0.93", lw=0, zorder=-1))
-            for ln in lines:
-                _line(fig, _LEFT, y - 0.8 * _LEAD, ln, color=colour)
-                y -= _LEAD
-        pdf.savefig(fig)
-
-
-def _index_blocks(summaries: list[tuple[str, dict[str, Any]]]) -> list[tuple[list[str], str]]:
-    all_rows = [r for _, s in summaries for r in s["rows"]]
-    verdicts, reasons = verdict_counts(all_rows)
-    blocks = [([f"{len(all_rows)} printed values and claims in {len(summaries)} experiments: "
-                f"{_counts_text(verdicts, reasons)}.", ""], "black")]
-    for code, n in reasons.items():
-        blocks.append(([f"  {code:<12} {n:>4}  {REASONS.get(code, 'the row names no reason yet')}"], "black"))
-    width = max([10, *(len(s["experiment"]) for _, s in summaries)])
-    sw = max([7, *(len(s["source"]["section"]) for _, s in summaries)])
-    blocks.append((["", f"{'experiment':<{width}}  {'section':<{sw}} {'reproduced':>10} {'differs':>8} "
-                        f"{'not-checkable':>13}  figures  title"], "black"))
-    for _, s in summaries:
-        v, why = verdict_counts(s["rows"])
-        figs = sum(f.endswith(".png") for f in s["figures"])
-        line = (f"{s['experiment']:<{width}}  {s['source']['section']:<{sw}} {v['reproduced']:>10} {v['differs']:>8} "
-                f"{v['not-checkable']:>13}  {figs:>7}  {s['title']}")
-        why_text = ", ".join(f"{k} {n}" for k, n in why.items())
-        blocks.append(([line[:_chars()], *([f"{'':<{width}}  differing: {why_text}"] if why else [])], "black"))
-    return blocks
-
-
-def _paper_blocks(rows: list[dict[str, Any]]) -> tuple[list[str], list[tuple[list[str], str]]]:
-    """The paper table as fixed-width text: the header and one block per row (id above its experiment)."""
-    ref = max([15, *(max(len(x["row"]["id"]), len(x["experiment"])) for x in rows)])
-    fixed = {"section": 11, "equation": 14, "line": 5, "ref": ref, "printed": 28, "computed": 12, "rel": 9,
-             "verdict": 13, "reason": 10, "today": 26}
-    claim = max(20, _chars() - sum(fixed.values()) - len(fixed))
-    widths = [fixed["section"], fixed["equation"], fixed["line"], ref, claim, fixed["printed"], fixed["computed"],
-              fixed["rel"], fixed["verdict"], fixed["reason"], fixed["today"]]
-    header = _block([[h] for h in ("§ n°", "equation", "line", "id / experiment", "claim", "printed", "computed",
-                                   "rel. diff", "verdict", "reason", "today's value")], widths)
-    blocks = []
-    for x in rows:
-        r = x["row"]
-        where = f"{x['section']} n°{x['n']}" if x["n"] else x["section"]
-        cells = [_cell(where, widths[0]), _cell(x["equation"], widths[1]), [_fmt(r.get("line"), 9)],
-                 [r["id"], x["experiment"]], _cell(r["quantity"], claim), _cell(r["printed_text"], widths[5]),
-                 [_fmt(r["computed"])], [_rel(r["rel_diff"])], [r["verdict"]], [r.get("reason") or ""],
-                 _cell(x["today"], widths[10])]
-        blocks.append((_block(cells, widths), _COLOUR.get(r["verdict"], "black")))
-    return header, blocks
-
-
-def _figure_page(pdf: Any, png: Path, heading: str) -> None:
-    import numpy as np
-    from PIL import Image
-
-    fig = _page(heading)
-    with Image.open(png) as im:
-        title = im.info.get("Title", "")
-        pixels = np.asarray(im.convert("RGB"))
-    _line(fig, _LEFT, 0.925, f"{png.parent.name}/{png.name}" + (f": {title}" if title else ""), size=8)
-    ax = fig.add_axes((0.05, 0.03, 0.9, 0.87))
-    ax.imshow(pixels, interpolation="none")  # the PNG's own pixels, embedded as they are
-    ax.set_axis_off()
-    pdf.savefig(fig)
-
-
-def report_pdf(fh: Any, out: Path, summaries: list[tuple[str, dict[str, Any]]], rows: list[dict[str, Any]]) -> None:
-    """``report.pdf`` into the binary file ``fh``: the index, the paper table, then every figure of every
-    experiment (its PNG, read from ``out/<experiment>/``)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    from matplotlib.backends.backend_pdf import PdfPages
-
-    with matplotlib.rc_context({"pdf.use14corefonts": True, "pdf.fonttype": 3}), \
-            PdfPages(fh, metadata=_PDF_META) as pdf:
-        _text_pages(pdf, "Résal (1883), Commentaire à la théorie mathématique du jeu de billard: resal's verdicts",
-                    [], _index_blocks(summaries))
-        header, blocks = _paper_blocks(rows)
-        _text_pages(pdf, "Every printed value, in the paper's order (by line of the digitised text)", header, blocks)
-        for name, s in summaries:
-            for f in s["figures"]:
-                if f.endswith(".png") and (out / name / f).is_file():
-                    _figure_page(pdf, out / name / f, f"{s['experiment']}: {s['title']}")
-
-
-def write_index(out: Path) -> Path:
-    """``out/index.md`` (verdict totals, then each experiment found under ``out`` with its counts, figures and
-    tables), ``out/paper-table.{md,csv,tex}`` (every printed value of the paper, in the paper's order) and
-    ``out/report.pdf`` (the index, the paper table and every figure), each written whole and renamed into place."""
-    summaries = _summaries(out)
-    rows = paper_rows(summaries)
-    path = out / "index.md"
-    _atomic_text(path, index_md(summaries))
-    _atomic_text(out / "paper-table.md", paper_table_md(rows))
-    _atomic_text(out / "paper-table.csv", paper_table_csv(rows))
-    _atomic_text(out / "paper-table.tex", paper_table_tex(rows))
-    _atomic_write(out / "report.pdf", lambda fh: report_pdf(fh, out, summaries, rows))
-    return path

@@ -62,6 +62,8 @@ class Row:
     line: int | None = None  # where the claim is printed: line of the digitised text
     reason: str | None = None  # a code of ``config.REASONS`` for a row that differs
     today: str | None = None  # a modern symbol standing beside it
+    config_line: int | None = None  # the line of the config file where the printed entry starts
+    computes: str | None = None  # the kind's quantity the row is compared with (the config's `computed:`)
 
 
 @dataclass(frozen=True)
@@ -84,7 +86,9 @@ class FitRow:
 @dataclass(frozen=True)
 class Layer:
     """One thing drawn: 'line', 'points', 'errorbar' (y ± y2), 'band' (y to y2), 'hband'/'vband' (span),
-    'heatmap' (z[i][j] at x[j], y[i]; label names the colour bar)."""
+    'heatmap' (z[i][j] at x[j], y[i]; label names the colour bar), 'contour' (the curve z = 0 on the grid of
+    x[j], y[i], interpolated: smooth, not a staircase of cells). ``color`` is a matplotlib colour or
+    ``<colour map>:<t>``, t in [0, 1]: a colour taken from that map (an ordered family of curves)."""
 
     kind: str
     x: tuple[float, ...] = ()
@@ -95,6 +99,7 @@ class Layer:
     color: str = "C0"
     marker: str = "o"
     style: str = "-"
+    centre: float | None = None  # heatmap of a signed quantity: a diverging colour map, this value its middle
 
 
 @dataclass(frozen=True)
@@ -106,7 +111,19 @@ class FigureSpec:
     layers: tuple[Layer, ...]
     xlim: tuple[float, float] | None = None
     ylim: tuple[float, float] | None = None
-    caption: str = ""
+    caption: str = ""  # a subtitle drawn in the figure
+    reading: str = ""  # for the reader's edition: what is plotted and what to look at (one or two sentences)
+    xticklabels: tuple[str, ...] = ()  # categories: labels of the ticks at x = 0, 1, 2, …
+    yticklabels: tuple[str, ...] = ()  # the same along y
+    # several panels: the figure is these (its own layers then empty), in a grid of ``columns`` columns, all
+    # sharing the x axis (and the y axis when ``sharey``); of each panel, its title heads it, and its xlabel and
+    # ylabel (the figure's when empty), layers, limits and tick labels are drawn; ``heights``: relative row heights
+    panels: tuple[FigureSpec, ...] = ()
+    columns: int = 1
+    sharey: bool = False
+    heights: tuple[float, ...] = ()
+    legend: str = "best"  # where the key goes: a matplotlib location in each panel, or "below": one, under the axes
+    yscale: str = "linear"  # or "log"
 
 
 @dataclass(frozen=True)
@@ -122,7 +139,7 @@ class Reproduction:
 
 
 def layer(kind: str, x: Sequence[float] | np.ndarray = (), y: Sequence[float] | np.ndarray = (),
-          y2: Sequence[float] | np.ndarray = (), z: np.ndarray | None = None, **kw: str) -> Layer:
+          y2: Sequence[float] | np.ndarray = (), z: np.ndarray | None = None, **kw: str | float) -> Layer:
     """A ``Layer`` from arrays (stored as tuples of floats, so specs stay hashable and serialisable)."""
     zz = () if z is None else tuple(tuple(map(float, row)) for row in np.asarray(z))
     return Layer(kind, tuple(map(float, np.ravel(x))), tuple(map(float, np.ravel(y))),

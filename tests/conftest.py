@@ -15,6 +15,7 @@ import pytest
 
 AVX512_KERNELS = {"skylakex", "cooperlake", "sapphirerapids"}
 _DROPPED: list[str] = []
+SCREENSHOTS: list[str] = []  # files a test saved for people to look at, listed at the end of the run
 
 
 def _cpu_flags() -> set[str]:
@@ -46,6 +47,8 @@ def pytest_report_header(config):
 def pytest_terminal_summary(terminalreporter):  # also under -q, where the header is not shown
     if _DROPPED:
         terminalreporter.write_line(_message())
+    for path in SCREENSHOTS:
+        terminalreporter.write_line(f"screenshot for people to look at: {path}")
 
 
 @pytest.fixture(scope="session")

@@ -1,12 +1,11 @@
 """The paper as a whole (issue 13): paper-table.{md,csv,tex} in the paper's order, index.md with the verdict totals,
-report.pdf (read back from its own bytes: the text of every page is searched for every experiment and every row),
-and the short summary that `reproduce --all` prints."""
+report.pdf (its layout, which the same call returns, holds every experiment, row and figure; the file is those same
+bytes), and the short summary that `reproduce --all` prints. The PDF's own rendering is tested in
+test_edition_pdf.py."""
 
 import csv
-import itertools
 import json
 import re
-import zlib
 from pathlib import Path
 
 import pytest
@@ -14,51 +13,27 @@ from typer.testing import CliRunner
 
 from cli import main
 from cli.main import app
-from reproductions import api, report
+from reproductions import api, edition, report
 from reproductions.config import REASONS
 
 runner = CliRunner()
 
 
-# -- reading a PDF back, with nothing but zlib -----------------------------------------------------------------------
-_TEXT_OP = re.compile(rb"BT\s*/\w+\s+([\d.]+)\s+Tf\s+([-\d.]+)\s+([-\d.]+)\s+Td\s*\(((?:\\.|[^\\)])*)\)\s*Tj", re.S)
-_ESCAPES = {b"n": b"\n", b"r": b"\r", b"t": b"\t", b"b": b"\b", b"f": b"\f"}
+# -- report.pdf through the layout that drew it ---------------------------------------------------------------------
+def _layout(out: Path):
+    """The layout of out/report.pdf, from the same call that writes it (checked to give the file's bytes)."""
+    import io
+
+    from reproductions import edition_pdf
+
+    buf = io.BytesIO()
+    lay = edition_pdf.write_pdf(edition.build(report._summaries(out)), out, buf)
+    assert buf.getvalue() == (out / "report.pdf").read_bytes()
+    return lay
 
 
-def _unescape(s: bytes) -> str:
-    def one(m: re.Match) -> bytes:
-        c = m.group(1)
-        if c[:1].isdigit():
-            return bytes([int(c, 8)])
-        return _ESCAPES.get(c, c)
-
-    return re.sub(rb"\\([0-7]{1,3}|.)", one, s, flags=re.S).decode("cp1252")
-
-
-def pdf_pages(data: bytes) -> list[list[str]]:
-    """The text lines of each page of a PDF that matplotlib wrote: every content stream (inflated where it is
-    compressed) that draws text, its strings grouped by baseline, top to bottom, and joined left to right. Glyphs
-    drawn as pictures (the embedded font's Greek letters) are not text and do not appear."""
-    pages = []
-    # a compressed stream may end in the byte \r: keep it (matplotlib ends a stream with \n alone), and let
-    # decompressobj ignore whatever follows the zlib data (a page was lost when its last byte was stripped)
-    for raw in re.findall(rb"stream\r?\n(.*?)\nendstream", data, re.S):
-        try:
-            stream = zlib.decompressobj().decompress(raw)
-        except zlib.error:
-            stream = raw
-        runs = [(float(y), float(x), _unescape(s)) for _, x, y, s in _TEXT_OP.findall(stream)]
-        if not runs:
-            continue
-        lines: dict[float, list[tuple[float, str]]] = {}
-        for y, x, s in runs:
-            lines.setdefault(round(y, 2), []).append((x, s))
-        pages.append([" ".join(s for _, s in sorted(lines[y])) for y in sorted(lines, reverse=True)])
-    return pages
-
-
-def _tokens(line: str) -> list[str]:
-    return line.split()
+def _heading_lines(lay) -> list[str]:
+    return [ln.text for page in lay.pages for ln in page.lines]
 
 
 # -- the real experiments ----------------------------------------------------------------------------------------
@@ -145,27 +120,20 @@ def test_report_pdf_holds_every_experiment_row_and_figure(written):
     out, summaries, _ = written
     data = (out / "report.pdf").read_bytes()
     assert data.startswith(b"%PDF") and b"/CreationDate" not in data and b"/Producer" not in data
-    pages = pdf_pages(data)
-    assert len(pages) == len(re.findall(rb"/Type\s*/Page(?!s)", data))  # every page read back (each has text)
-    index_page = pages[0]
-    for s in summaries:  # its line: id, section, then reproduced, differs, not checkable, figures
-        counts, _ = report.verdict_counts(s["rows"])
-        want = [counts[v] for v in report.VERDICTS] + [sum(f.endswith(".png") for f in s["figures"])]
-        found = [m.groups() for ln in index_page
-                 if (m := re.match(rf"{re.escape(s['experiment'])}\s.*?\s(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s", ln))]
-        assert [[int(n) for n in g] for g in found] == [want], (s["experiment"], index_page)
-    # the paper table: a row's first line has its id, verdict and reason; the next line its experiment
-    pairs = [(a, b) for page in pages for a, b in itertools.pairwise(page)]
-    for s in summaries:
+    assert b"/FontFile2" in data and b"/Courier" not in data  # embedded TrueType, no base-14 font
+    lay = _layout(out)
+    assert len(lay.pages) == len(re.findall(rb"/Type\s*/Page(?!s)", data))
+    lines = _heading_lines(lay)
+    for s in summaries:  # each row's heading: its id, its verdict, its reason
         for r in s["rows"]:
-            want = {r["id"], r["verdict"]} | ({r["reason"]} if r["reason"] else set())
-            assert any(want <= set(_tokens(a)) and s["experiment"] in _tokens(b) for a, b in pairs), \
-                (s["experiment"], r["id"], r["verdict"])
-    text = "\n".join(ln for page in pages for ln in page)
+            want = [r["id"], r["verdict"]] + ([r["reason"]] if r["reason"] else [])
+            assert any(ln.startswith(r["id"] + " ") and all(w in ln for w in want) for ln in lines), \
+                (s["experiment"], r["id"])
+    placed = [(f.png, f.part) for page in lay.pages for f in page.figures]
     for s in summaries:
         for f in s["figures"]:
             if f.endswith(".png"):
-                assert f"{s['experiment']}/{f}" in text
+                assert (f"{s['experiment']}/{f}", s["experiment"]) in placed
     n_png = sum(f.endswith(".png") for s in summaries for f in s["figures"])
     assert len(re.findall(rb"/Subtype\s*/Image", data)) >= n_png
 
@@ -236,7 +204,7 @@ def test_todays_value_comes_from_the_experiments_modern_entries():
 
 def test_hand_made_summaries_give_the_papers_order_and_totals(hand_made):
     out = hand_made
-    report.write_index(out)
+    edition.write_index(out)
     with (out / "paper-table.csv").open(newline="", encoding="utf-8") as fh:
         table = list(csv.DictReader(fh))
     # by line (ties in experiment order: beta's page comes first), then the rows without a line, experiment order
@@ -255,29 +223,27 @@ def test_hand_made_summaries_give_the_papers_order_and_totals(hand_made):
     tex = (out / "paper-table.tex").read_text()
     assert tex.count(r"\\") == len(table) + 1 and r"\§IV" not in tex and "§IV" in tex
 
-    pages = pdf_pages((out / "report.pdf").read_bytes())
-    assert any("6 printed values and claims in 2 experiments" in ln for ln in pages[0])
-    pairs = [(a, b) for page in pages for a, b in itertools.pairwise(page)]
-    for eid, rid, verdict, reason in (("alpha", "a3", "differs", "erratum"), ("beta", "b1", "differs", "rounding"),
-                                      ("alpha", "a2", "differs", None), ("beta", "b2", "not-checkable", None)):
-        want = {rid, verdict} | ({reason} if reason else set())
-        assert any(want <= set(_tokens(a)) and eid in _tokens(b) for a, b in pairs), rid
-    assert any("alpha/alpha-fig.png: the figure of alpha" in ln for page in pages for ln in page)
+    lines = _heading_lines(_layout(out))
+    for rid, verdict, reason in (("a3", "differs", "erratum"), ("b1", "differs", "rounding"),
+                                 ("a2", "differs", None), ("b2", "not-checkable", None)):
+        assert any(ln.startswith(rid + " ") and verdict in ln and (reason or "") in ln for ln in lines), rid
 
 
 def test_the_report_is_the_same_bytes_twice_and_written_whole(hand_made, monkeypatch):
     out = hand_made
-    report.write_index(out)
+    edition.write_index(out)
     first = (out / "report.pdf").read_bytes()
-    report.write_index(out)
+    edition.write_index(out)
     assert (out / "report.pdf").read_bytes() == first
 
-    def broken(fh, *args):
+    def broken(ed, out, fh):
         fh.write(b"%PDF-half")
         raise RuntimeError("interrupted while writing")
 
-    monkeypatch.setattr(report, "report_pdf", broken)
+    from reproductions import edition_pdf
+
+    monkeypatch.setattr(edition_pdf, "write_pdf", broken)
     with pytest.raises(RuntimeError):
-        report.write_index(out)
+        edition.write_index(out)
     assert (out / "report.pdf").read_bytes() == first
     assert not [p.name for p in out.iterdir() if p.name.startswith(".")]

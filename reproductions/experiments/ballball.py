@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from ..config import Experiment, Node
-from ..mechanics import spheres
+from ..mechanics import cloth, spheres
 from ..mechanics.paths import Regime
 from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
 
@@ -701,28 +701,78 @@ def run(exp: Experiment) -> Reproduction:
                         data_note=f"identical balls, f = {p.f:g}, ε = ε′ = {p.eps:g}, V = {p.speed:g} m/s")
 
 
+def _cut_outcomes(p: Params, cut: np.ndarray, method: str) -> dict[str, np.ndarray]:
+    """The billiards scene by one method: directions (degrees) and speeds (over V) of the object ball, of the cue
+    ball just after the impact, and of the cue ball once the cloth has made it roll (§II n°7: its final velocity
+    v − u/(1 + k), u the slip, does not depend on the cloth's friction, which sets only when and where)."""
+    v, w, vp, wp = cut_scene(p, cut, p.f)
+    s = spheres.two_spheres(p.M, p.M, p.R, p.R, p.k, p.k, v, w, vp, wp, f=p.f, eps=p.eps, epsp=p.eps, on_cloth=True,
+                            method=method)
+    rolled = cloth.slide(s.v1[:, 0], s.v1[:, 1], s.w1[:, 0], s.w1[:, 1], R=p.R, k=p.k, f=1.0, g=1.0)
+    turned = np.degrees(cut)
+    return {"object": np.degrees(np.arctan2(s.v1p[:, 1], s.v1p[:, 0])),
+            "cue": np.degrees(np.arctan2(s.v1[:, 1], s.v1[:, 0])) - turned,
+            "rolling": np.degrees(np.arctan2(rolled.vy_roll, rolled.vx_roll)) - turned,
+            "object speed": np.hypot(s.v1p[:, 0], s.v1p[:, 1]) / p.speed,
+            "cue speed": np.hypot(s.v1[:, 0], s.v1[:, 1]) / p.speed,
+            "rolling speed": np.hypot(rolled.vx_roll, rolled.vy_roll) / p.speed}
+
+
+_BODIES = (("object", "object ball", "C0"), ("cue", "cue ball, just after the impact", "C3"),
+           ("rolling", "cue ball, once rolling", "C2"))
+_WHICH = {"object": " (from the line of centres)", "cue": " (turn)", "rolling": " (turn)"}
+
+
 def _figures_cut(p: Params) -> tuple[FigureSpec, FigureSpec]:
     cut = np.radians(np.linspace(0.5, 85, 120))
-    lines_a, lines_s = [], []
-    for method, style in (("exact", "-"), ("resal", "--")):
-        v, w, vp, wp = cut_scene(p, cut, p.f)
-        s = spheres.two_spheres(p.M, p.M, p.R, p.R, p.k, p.k, v, w, vp, wp, f=p.f, eps=p.eps, epsp=p.eps, on_cloth=True,
-                                method=method)
-        throw = np.degrees(np.arctan2(s.v1p[:, 1], s.v1p[:, 0]))
-        cue_dir = np.degrees(np.arctan2(s.v1[:, 1], s.v1[:, 0]))
-        label = "exact" if method == "exact" else "Résal §VI, first order"
-        lines_a += [layer("line", np.degrees(cut), throw, label=f"object ball, {label}", color="C0", style=style),
-                    layer("line", np.degrees(cut), cue_dir - np.degrees(cut), label=f"cue ball turn, {label}",
-                          color="C3", style=style)]
-        lines_s += [layer("line", np.degrees(cut), np.hypot(s.v1p[:, 0], s.v1p[:, 1]) / p.speed,
-                          label=f"object ball, {label}", color="C0", style=style),
-                    layer("line", np.degrees(cut), np.hypot(s.v1[:, 0], s.v1[:, 1]) / p.speed,
-                          label=f"cue ball, {label}", color="C3", style=style)]
+    deg = np.degrees(cut)
+    out = {m: _cut_outcomes(p, cut, m) for m in ("exact", "resal")}
+    key = [layer("line", label="exact", color="0.3"), layer("line", label="Résal §VI, first order", color="0.3",
+                                                              style="--")]
+    angles, speeds, d_angles, d_speeds = [], [], [], []
+    for name, text, colour in _BODIES:
+        for method, style in (("exact", "-"), ("resal", "--")):
+            angles.append(layer("line", deg, out[method][name], label=text + _WHICH[name] if method == "exact" else "",
+                                color=colour, style=style))
+            speeds.append(layer("line", deg, out[method][f"{name} speed"], label=text if method == "exact" else "",
+                                color=colour, style=style))
+        d_angles.append(layer("line", deg, np.abs(out["resal"][name] - out["exact"][name]), color=colour))
+        d_speeds.append(layer("line", deg, 1e3 * (out["resal"][f"{name} speed"] - out["exact"][f"{name} speed"]),
+                              color=colour))
+    rule = 30.0  # the teacher's rule: a rolling cue ball leaves a half-ball hit about 30° off its path
+    angles.append(layer("line", [deg[0], deg[-1]], [rule, rule], label="the 30° rule", color="0.5", style=":"))
     cap = f"rolling cue ball at {p.speed:g} m/s onto a ball at rest, f = {p.f:g}, ε = {p.eps:g}"
-    return (FigureSpec("cut-angles", "Outgoing directions against the cut angle (§VI)", "cut angle (degrees)",
-                       "degrees (object ball from the line of centres; cue ball turn)", tuple(lines_a), caption=cap),
-            FigureSpec("cut-speeds", "Outgoing speeds against the cut angle (§VI)", "cut angle (degrees)",
-                       "speed / V", tuple(lines_s), caption=cap))
+    cap_a = cap + "; turn: from the cue ball's path before the impact"
+    ex = out["exact"]
+    i30 = int(np.argmin(np.abs(deg - rule)))
+    top = int(np.argmax(ex["rolling"]))
+    worst = {name: float(np.max(np.abs(out["resal"][name] - ex[name]))) for name, _, _ in _BODIES}
+    worst_v = max(float(np.max(np.abs(out["resal"][f"{n} speed"] - ex[f"{n} speed"]))) for n, _, _ in _BODIES)
+    return (FigureSpec("cut-angles", "Outgoing directions against the cut angle (§VI)", "cut angle (degrees)", "",
+                       (), caption=cap_a, legend="below", columns=1, heights=(2.0, 1.0), panels=(
+                           FigureSpec("cut-angles-0", "", "", "direction (degrees)", tuple(angles + key)),
+                           FigureSpec("cut-angles-1", "", "", "|first order − exact|\n(degrees)", tuple(d_angles),
+                                      yscale="log")),
+                       reading=(
+                           "The directions in which the balls leave a cut, exact (solid) and by Résal's first order "
+                           "in f (dashed, on top): the object ball leaves close to the line of centres; the cue ball "
+                           "first leaves nearly square to it, then, once the cloth has made it roll, runs at "
+                           f"{ex['rolling'][i30]:.1f}° from its old path after a 30° cut (at most "
+                           f"{ex['rolling'][top]:.1f}°, at {deg[top]:.0f}°): the teacher's 30° rule. The lower panel "
+                           f"shows how little the first order errs: at most {worst['object']:.2g}° for the object "
+                           f"ball, {worst['rolling']:.2g}° for the rolling cue ball, {worst['cue']:.2g}° just after a "
+                           "nearly full hit, where the cue ball is almost stopped.")),
+            FigureSpec("cut-speeds", "Outgoing speeds against the cut angle (§VI)", "cut angle (degrees)", "",
+                       (), caption=cap, legend="below", columns=1, heights=(2.0, 1.0), panels=(
+                           FigureSpec("cut-speeds-0", "", "", "speed / V", tuple(speeds + key)),
+                           FigureSpec("cut-speeds-1", "", "", "first order − exact\n(thousandths of V)",
+                                      tuple(d_speeds))),
+                       reading=(
+                           "The speeds of the two balls after a cut, over the cue ball's speed V before it: the object "
+                           "ball takes nearly all of a full hit and little of a thin cut, the cue ball the rest; once "
+                           "rolling, the cue ball has gained speed along the line of centres from its forward spin. "
+                           "Exact (solid) and first-order (dashed) curves coincide: the lower panel shows their "
+                           f"difference, at most {worst_v * 1e3:.2g} thousandths of V.")))
 
 
 def _figure_friction(p: Params) -> FigureSpec:
@@ -733,4 +783,10 @@ def _figure_friction(p: Params) -> FigureSpec:
                           layer("line", v, a + b * np.exp(-c * v), label="today: μ = a + b exp(−c v)"),
                           layer("line", [0, 6], [p.f, p.f], label=f"Coriolis: below {p.f:g}", color="C3",
                                 style="--")),
-                      caption="today's law: Alciatore's fit to Marlow (1995), modern-values.csv")
+                      caption="today's law: Alciatore's fit to Marlow (1995), modern-values.csv",
+                      reading=(
+                          "The friction between two balls against the speed at which their surfaces slip on each "
+                          f"other: today's measurements fall from {a + b:.2g} at slow slip to about {a:.1g} at fast "
+                          f"slip, against Coriolis's statement that it stays below {p.f:g} (dashed)" + (
+                              f"; today's value is below that bound only above {math.log(b / (p.f - a)) / c:.1f} m/s."
+                              if a < p.f < a + b else ".")))

@@ -203,24 +203,45 @@ def _after(p: Params, epsp: float, i: np.ndarray, cR: np.ndarray, bR: float) -> 
 
 
 def _figure_fan(p: Params, epsp: float) -> FigureSpec:
-    layers = []
-    seen = set()
-    for i in p.fan_inclinations:
-        for h in p.fan_heights:
+    """One panel per inclination of the cue; colour: the height of the contact point; dashed: retrograde."""
+    panels, retro_at = [], []
+    n = len(p.fan_heights)
+    colours = [f"viridis:{0.85 * j / max(n - 1, 1):.3f}" for j in range(n)]
+    for k, i in enumerate(p.fan_inclinations):
+        layers, retro = [], []
+        for h, colour in zip(p.fan_heights, colours, strict=True):
             s, m = _after(p, epsp, np.array(i), np.array(h), p.fan_side)
             t = np.linspace(0.0, 1.5 * float(m.t_roll) + 1e-9, 100)
             x, y, _, _ = cloth.state_at(t, s.chi1, s.eta1, s.n1, s.p1, R=p.R, k=p.k, f=p.f, g=p.g)
-            retro = float(m.vx_roll) < 0
-            kind = "retrograde" if retro else "direct"
-            label = "" if kind in seen else f"{kind} (final motion along Ox)"
-            seen.add(kind)
-            layers.append(layer("line", x, y, label=label, color="C3" if retro else "C0"))
-            layers.append(layer("points", [float(m.x_roll)], [float(m.y_roll)], color="k", marker="."))
+            back = float(m.vx_roll) < 0
+            if back:
+                retro.append(h)
+            layers.append(layer("line", x, y, label=f"c/R = {h:g}".replace("-", "−") if k == 0 else "", color=colour,
+                                style="--" if back else "-"))
+            layers.append(layer("points", [float(m.x_roll)], [float(m.y_roll)], color=colour, marker="o"))
+        if k == 0:  # the key to the line styles and dots, once
+            layers += [layer("line", label="direct", color="0.3"),
+                       layer("line", label="retrograde", color="0.3", style="--"),
+                       layer("points", label="onset of rolling", color="0.3", marker="o")]
+        retro_at.append(retro)
+        panels.append(FigureSpec(f"strokes-{k}", f"inclination i = {math.degrees(i):.0f}°", "", "", tuple(layers)))
+    said = "; ".join(
+        f"at i = {math.degrees(i):.0f}° " + ("none" if not r else "all" if len(r) == n else
+                                              "c/R = " + ", ".join(f"{h:g}".replace("-", "−") for h in r))
+        for i, r in zip(p.fan_inclinations, retro_at, strict=True))
     return FigureSpec("strokes", "Strokes of an inclined cue, then the cloth (§VII, §II)", "x along the cue (m)",
-                      "y (m)", tuple(layers), caption=(
-                          f"i ∈ {{{', '.join(f'{math.degrees(x):.0f}°' for x in p.fan_inclinations)}}}, "
-                          f"c/R ∈ {{{', '.join(f'{h:g}' for h in p.fan_heights)}}}, b/R = {p.fan_side:g}; "
-                          "dots: onset of rolling"))
+                      "y (m)", (), caption=(
+                          f"c/R ∈ {{{', '.join(f'{h:g}'.replace('-', '−') for h in p.fan_heights)}}} (colour), "
+                          f"b/R = {p.fan_side:g}, "
+                          f"f = {p.f:g}; dashed: retrograde; dots: onset of rolling"),
+                      reading=(
+                          f"The path of the ball on the cloth after strokes of the cue at {len(p.fan_inclinations)} "
+                          f"inclinations i (one panel each) and {n} heights c/R of the contact point (colours), the "
+                          "cue along Ox and hit "
+                          f"off centre by b/R = {p.fan_side:g}: Euler's parabola while the ball slides, then the "
+                          "straight line once it rolls (dot). Dashed paths end up moving back towards the cue "
+                          f"(retrograde): {said}."),
+                      panels=tuple(panels), columns=2, sharey=True, legend="below")
 
 
 def _figure_region(p: Params, epsp: float) -> FigureSpec:
@@ -229,24 +250,30 @@ def _figure_region(p: Params, epsp: float) -> FigureSpec:
     ii, hh = np.meshgrid(incl, heights, indexing="xy")  # rows: c/R, columns: i
     s, m = _after(p, epsp, ii, hh, p.fan_side)
     final = np.asarray(m.vx_roll) / p.V0p
-    first = []  # the printed criterion's boundary: χ1 = 0 (first of eqs 7)
-    for row, h in zip(np.asarray(s.chi1), heights, strict=True):
-        neg = np.nonzero(row < 0)[0]
-        if neg.size:
-            first.append((math.degrees(incl[neg[0]]), h))
-    layers = [layer("heatmap", np.degrees(incl), heights, z=final, label="final velocity along Ox / V′0")]
+    deg = np.degrees(incl)
+    layers = [layer("heatmap", deg, heights, z=final, label="final velocity along Ox / V′0", centre=0.0),
+              layer("contour", deg, heights, z=final, label="final velocity 0 (retrograde to its right)", color="k")]
     phi_max = float(cue.miscue_angle(max(p.tip_friction)))
-    ok = np.arccos(np.clip(np.asarray(s.cos_phi), -1, 1)) <= phi_max  # inside the tip's friction cone
-    edges = [(math.degrees(incl[np.nonzero(row)[0][-1]]), h) for row, h in zip(ok, heights, strict=True) if row.any()]
-    if edges:
-        layers.append(layer("line", [x for x, _ in edges], [y for _, y in edges], color="C1", style=":",
-                            label=f"fausse queue beyond (right of) this line, tip friction {max(p.tip_friction):g}"))
-    if first:
-        layers.append(layer("line", [x for x, _ in first], [y for _, y in first], label="χ1 = 0 (first of eqs 7)",
-                            color="w", style="--"))
+    phi = np.arccos(np.clip(np.asarray(s.cos_phi), -1, 1))  # beyond the tip's friction cone: a miscue
+    layers.append(layer("contour", deg, heights, z=phi - phi_max, color="C1", style=":",
+                        label=f"miscue outside the dotted band (tip friction {max(p.tip_friction):g})"))
+    layers.append(layer("contour", deg, heights, z=np.asarray(s.chi1) / p.V0p, label="χ1 = 0 (first of eqs 7)",
+                        color="k", style="--"))
+    both = (final < 0) & (phi <= phi_max)  # retrograde without a miscue
+    inside = ("no retrograde stroke of the grid lies inside it." if not both.any() else
+              f"only {both.sum() / max((final < 0).sum(), 1):.0%} of the retrograde strokes lie inside it, with the "
+              f"cue at {math.degrees(ii[both].min()):.0f}° or steeper and the contact at c/R ≥ {hh[both].min():.2f}.")
     return FigureSpec("retrograde-region", "Final motion along the cue's direction (negative: retrograde)",
                       "inclination i of the cue (degrees)", "height c/R of the contact point", tuple(layers),
-                      caption=f"b/R = {p.fan_side:g}, f = {p.f:g}; stroke with the full moment, then §II")
+                      caption=f"b/R = {p.fan_side:g}, f = {p.f:g}; stroke with the full moment, then §II",
+                      legend="below",
+                      reading=(
+                          "The velocity with which the ball finally rolls along the cue's direction, over the cue's "
+                          "inclination i and the height c/R of the contact point (blue: forward; red: back towards "
+                          "the cue, §VII's retrograde motion); on the solid line it ends with no motion along Ox, on "
+                          "the dashed one it leaves the cue with none (χ1 = 0), and between the two the stroke sends "
+                          "it forward and its spin brings it back. Outside the dotted band the tip "
+                          f"would slide on the ball (a miscue, tip friction {max(p.tip_friction):g}): " + inside))
 
 
 # ---- n°14 claim by claim (issue 13): each printed line against an independent computation ----------------------

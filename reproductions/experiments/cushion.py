@@ -152,10 +152,18 @@ def _modern_e(p: Params, v_normal: np.ndarray) -> np.ndarray:
 
 
 def _figure_error(theta: np.ndarray, spin: np.ndarray, err: np.ndarray) -> FigureSpec:
+    i, j = np.unravel_index(np.argmax(err), err.shape)
+    at = f"{math.degrees(theta[j]):.0f}°, p0R/V = {spin[i]:+.2f}".replace("-", "−")
     return FigureSpec("approximation-error", "Error of Résal's first-order eq. (11) in the rebound angle",
                       "incidence angle (degrees from the normal)", "side spin p0R/V",
                       (layer("heatmap", np.degrees(theta), spin, z=err, label="|angle(11) − angle(exact)| (deg)"),),
-                      caption="ball rolling on the cloth into the cushion; exact: the ₂F₁ closed form")
+                      caption="ball rolling on the cloth into the cushion; exact: the ₂F₁ closed form",
+                      reading=(
+                          "How many degrees the rebound angle given by Résal's approximate eq. (11) differs from the "
+                          "exact one, for a ball rolling into the cushion, over its incidence and its side spin p0R/V "
+                          f"(V its speed). The error is at most {err.max():.2g}° ({at}), at small incidence with "
+                          "strong spin, and vanishes along the dark diagonal p0R/V = sin(incidence), where the spin "
+                          "cancels the slip along the cushion."))
 
 
 def _figure_rebound(p: Params, theta: np.ndarray, e_modern: np.ndarray) -> FigureSpec:
@@ -169,12 +177,19 @@ def _figure_rebound(p: Params, theta: np.ndarray, e_modern: np.ndarray) -> Figur
     th = np.degrees(theta)
     return FigureSpec("rebound", f"Rebound angle against incidence, no side spin, V = {p.speed:g} m/s", "incidence "
                       "(degrees from the normal)", "rebound (degrees from the normal)", (
-                          layer("line", th, rebound_angle(resal), label=f"§IV exact: j = {p.j:g}, ν = 0,55"),
+                          layer("line", th, rebound_angle(resal), label=f"§IV exact: j = {p.j:g}, ν = {p.nu:g}"),
                           layer("line", th, rebound_angle(modern), label="same, ν from Han 2005's e(v)", color="C2"),
                           layer("line", th, rebound_angle(frictionless), label="no friction (j = 0)", color="C7",
                                 style="--"),
                           layer("line", th, th, label="mirror reflection", color="k", style=":")),
-                      (0, 90), (0, 90), caption="Han 2005: e = 0.39 + 0.257 v − 0.044 v², v the normal speed (m/s)")
+                      (0, 90), (0, 90), caption="Han 2005: e = 0.39 + 0.257 v − 0.044 v², v the normal speed (m/s)",
+                      reading=(
+                          "The angle from the normal at which a ball rolling without side spin leaves the cushion, "
+                          f"against the angle at which it came, at {p.speed:g} m/s. The cushion returns only part of "
+                          "the normal speed, so the ball leaves further from the normal than a mirror reflection "
+                          f"(dotted); friction (j = {p.j:g}, blue, against grey without) pulls it back towards the "
+                          f"normal, and today's measured restitution, above ν = {p.nu:g} except at grazing "
+                          "incidence, brings it nearer to the mirror (green)."))
 
 
 # ---- issue 13: every step and assertion of n°11, checked against an independent computation ----------------

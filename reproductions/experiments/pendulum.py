@@ -266,7 +266,8 @@ def _figure(p: Params, fit: FitResult, comb: float, mu: float, paper_epsp: float
     inside = (line >= 0) & (line <= 1)
     layers = [layer("line", eps[inside], line[inside], label=f"data: ε + {mu:g}ε′ = {c:.4f}", color="C0")]
     comb_rows = fit.combinations
-    if comb_rows and comb_rows[0].stderr is not None:
+    banded = bool(comb_rows) and comb_rows[0].stderr is not None
+    if banded:
         lo, hi = comb_rows[0].ci95
         layers.append(layer("band", eps, np.clip((lo - eps) / mu, 0, 1), np.clip((hi - eps) / mu, 0, 1),
                             label="95 % band (assumed σ)", color="C0"))
@@ -282,4 +283,12 @@ def _figure(p: Params, fit: FitResult, comb: float, mu: float, paper_epsp: float
                       f"ε of the striking body ({p.striker.name})", f"ε′ of the struck body ({p.struck.name})",
                       tuple(layers), (0.0, 1.0), (0.0, 0.5),
                       f"One equation for two unknowns: every point of the segment reproduces V1 = {p.ratio:.4g} V0 "
-                      f"and V1′ = {p.ratio_p:.4g} V0.")
+                      f"and V1′ = {p.ratio_p:.4g} V0.",
+                      reading=(
+                          f"The pairs of Résal's coefficients, ε of the {p.striker.name} and ε′ of the "
+                          f"{p.struck.name}, that reproduce Coriolis's two measured speeds: they all lie on the line "
+                          f"ε + {mu:g}ε′ = {c:.4f}, so the data fix only this combination"
+                          + (" (the band allows for an assumed reading error)" if banded else "")
+                          + f". On it lie n°5's reading (ε = {p.eps_paper:g}, red) and the premise that the "
+                          f"{p.struck.name} keeps its shape (ε′ = {p.epsp_premise:g}, green); §VII swaps the two "
+                          "coefficients and falls off the line (cross)."))

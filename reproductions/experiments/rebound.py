@@ -212,12 +212,21 @@ def _figure_ratio(p: Params, r: float, eps: float, exp: Experiment) -> FigureSpe
                   layer("points", [r], [eps], label=f"computed: r = {r:.3g} ⇒ ε = {eps:.4f}", color="C3")]
         if printed is not None:
             layers.append(layer("points", [r], [printed], label=f"printed ε = {printed:g}", color="C1", marker="x"))
+        band = ""
         for m in modern_rows(("e_c",), {"e_c": (r, "")}) if "e_c" in exp.modern else ():
             if m["low"] is not None and m["high"] is not None:
                 layers.append(layer("vband", [m["low"], m["high"]], label=f"modern cushion e: {m['source'][:40]}",
                                     color="C2"))
+                lo, hi = (float(impact.eps_from_velocity_ratio(x)) for x in (m["high"], m["low"]))
+                band = (f"; the green band, today's measured restitution of cushions ({m['low']:g} to "
+                        f"{m['high']:g}), means ε from {lo:.2f} to {hi:.2f}")
+        said = "" if printed is None else f" (printed {printed:g})"
         return FigureSpec("eps-vs-ratio", "ε against the measured velocity ratio (eq. 9)",
-                          "velocity ratio r = −V1/V0", "Résal's ε", tuple(layers), (0, 1), (0, 1))
+                          "velocity ratio r = −V1/V0", "Résal's ε", tuple(layers), (0, 1), (0, 1),
+                          reading=(
+                              "Résal's coefficient ε against the measured ratio r of the rebound speed to the impact "
+                              "speed, from eq. (9): ε = (1 − r)/(1 + r), 0 for a perfect rebound and 1 for none. "
+                              f"Coriolis's ratio {r:.3g} gives ε = {eps:.4f}{said}" + band + "."))
     e = np.linspace(0.0, 1.0, 201)
     layers = [layer("line", e, impact.velocity_ratio_from_eps(e) ** 2, label="h1/h0 = ((1 − ε)/(1 + ε))², eq. (9)"),
               layer("points", [eps], [p.value], label=f"computed: ε = {eps:.4f}", color="C3")]
@@ -225,8 +234,15 @@ def _figure_ratio(p: Params, r: float, eps: float, exp: Experiment) -> FigureSpe
         layers.append(layer("points", [printed], [p.value], label=f"printed: ε = {printed:g}", color="C1", marker="x"))
         layers.append(layer("points", [printed], [float(impact.velocity_ratio_from_eps(printed)) ** 2],
                             label="what the printed ε predicts", color="C1", marker="s"))
+    off = "" if printed is None else (
+        f"; the printed ε = {printed:g} (cross) lies off the curve and would give "
+        f"{float(impact.velocity_ratio_from_eps(printed)) ** 2:.3f} (square)")
     return FigureSpec("height-vs-eps", "Rebound height ratio against ε (eq. 9)", "Résal's ε",
-                      "rebound height ratio h1/h0", tuple(layers), (0, 1), (0, 1))
+                      "rebound height ratio h1/h0", tuple(layers), (0, 1), (0, 1),
+                      reading=(
+                          "How high a ball dropped on a slab rebounds, as a fraction of its drop height, against "
+                          "Résal's ε: with free fall, eq. (9) gives h1/h0 = ((1 − ε)/(1 + ε))². The paper's rebound "
+                          f"to {p.value:.3g} of the height gives ε = {eps:.4f} (dot)" + off + "."))
 
 
 def _figure_series(data: tuple[np.ndarray, np.ndarray, str], fit: FitResult, r: float, p: Params) -> FigureSpec:
@@ -240,5 +256,11 @@ def _figure_series(data: tuple[np.ndarray, np.ndarray, str], fit: FitResult, r: 
         layers.append(layer("band", x, -impact.infinite_mass_impact(x, eps=est.ci95[1]),
                             -impact.infinite_mass_impact(x, eps=est.ci95[0]), label="95 % interval of ε", color="C3"))
     layers.append(layer("line", x, r * x, label=f"paper's ratio {r:.4g}", color="C7", style="--"))
+    what = ("Synthetic rebound speeds generated with the paper's ratio (Coriolis's measurements are not printed)"
+            if "SYNTHETIC" in label.upper() else "Measured rebound speeds")
     return FigureSpec("series", "Rebound speed against impact speed", "impact speed V0 (m/s)",
-                      "rebound speed −V1 (m/s)", tuple(layers), caption=label)
+                      "rebound speed −V1 (m/s)", tuple(layers), caption=label,
+                      reading=(
+                          f"{what}, against the impact speed, with the straight line of eq. (9) fitted to them "
+                          f"(ε = {est.value:.4f}) and the paper's ratio {r:.4g} (dashed). A ratio that does not depend "
+                          "on the speed, as Coriolis found, puts the points on one line through the origin."))

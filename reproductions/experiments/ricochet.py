@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import re
+import textwrap
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -499,7 +500,7 @@ def run(exp: Experiment) -> Reproduction:
                             ("surface", "estimator", "true ν", "mean ν̂", "bias", "std. dev.", "RMSE", "seeds"),
                             tuple(rows_est),
                             "Same synthetic series for both estimators in each repetition."),)
-        figures.append(_figure_estimators(rows_est))
+        figures.append(_figure_estimators(rows_est, {s.id: s.name for s in p.surfaces}))
     return Reproduction(exp, rows_for(exp, computed), tuple(fits), tuple(figures), (),
                         data_note="; ".join(s.name + (" (SYNTHETIC)" if s.synthetic else "") for s in p.surfaces),
                         identifiability=tuple(ident), tables=tables)
@@ -530,13 +531,24 @@ def _figure_sequence(p: Params, s: Surface, x: np.ndarray, fit: FitResult, heigh
         xs.append(r.imprints[j] + r.chi[j] * tt)
         zs.append(p.R + r.zeta[j] * tt - 0.5 * p.g * tt**2)
     kind = "SYNTHETIC " if s.synthetic is not None else ""
+    slides = ", ".join(str(i + 1) for i in np.nonzero(r.regimes == Regime.SLIDE)[0]) or "none"
+    ranges = np.diff(x)
+    origin = "; synthetic, since Rozé's series are not printed" if s.synthetic is not None else ""
+    n_slide = int(np.sum(r.regimes == Regime.SLIDE))
+    regimes = ("the contact grips at every impact" if n_slide == 0 else
+               "the contact slides at every impact" if n_slide == r.regimes.size else
+               f"the contact slides at impact{'s' if n_slide > 1 else ''} {slides} and grips at the others")
     return FigureSpec(
         f"ricochet-{s.id}", f"Ricochets on {s.name}", "x along the plane (m)", "height of the centre (m)",
         (layer("line", np.concatenate(xs), np.concatenate(zs), label=f"fitted model: ν = {nu:.3f}", color="C0"),
          layer("points", x, np.zeros_like(x), label=f"{kind}imprints ({x.size})", color="C3", marker="|")),
-        caption=f"{kind}series; slides at impacts "
-                f"{', '.join(str(i + 1) for i in np.nonzero(r.regimes == Regime.SLIDE)[0]) or 'none'}"
-                + ("" if heights_known else "; heights illustrative: α0 is not determined by positions alone"))
+        caption=f"{kind}series; slides at impacts {slides}"
+                + ("" if heights_known else "; heights illustrative: α0 is not determined by positions alone"),
+        reading=f"The path of the ball's centre over {s.name}, drawn by the model fitted to the imprints (red ticks"
+                f"{origin}). Each flight is shorter than the one before, by a factor close to the fitted "
+                f"ν = {nu:.3f} (the ranges fall from {ranges[0] * 100:.1f} cm to {ranges[-1] * 100:.1f} cm); "
+                f"{regimes}" + ("." if heights_known else "; the heights only illustrate, since positions alone do "
+                                                          "not fix α0."))
 
 
 def _figures_error_maps(p: Params) -> list[FigureSpec]:
@@ -547,27 +559,51 @@ def _figures_error_maps(p: Params) -> list[FigureSpec]:
     boundary_alpha = np.degrees(np.arctan(1.0 / np.maximum(f * (1 + p.k) * (1 + p.map_nu), 1e-12)))
     keep = boundary_alpha <= np.degrees(p.map_alpha_max)
     out = []
+    texts = {
+        "error-eq8": (
+            "Left of the dashed line the contact slides through the impact and (8) is exact (drawn at the floor 1e-6).",
+            "How far Résal's eq. (8), P1/P0 = ν[1 − f(1 + ν) tan α0], is from the exact ratio of two successive "
+            "ranges, over the incidence α0 and the friction f (colour: log10 of the relative error). Where the contact "
+            "slides through the impact (left of the dashed line) it is exact; beyond, where the contact grips, its "
+            "error grows quickly with α0 and f."),
+        "error-eq9": (
+            f"Left of the dashed line (9) errs by about the dropped term f(1 + ν) tan α0; right of it (grip) by "
+            f"1/k = {1 / p.k:.2g}.",
+            "How far eq. (9), P1/P0 = ν, is from the exact ratio of two successive ranges (colour: log10 of the "
+            "relative error). It is good only near the axes, where f tan α0 is small, the premise Résal states; "
+            f"where the contact grips (right of the dashed line) a ball without spin keeps only k/(1 + k) of its "
+            f"horizontal speed and (9) errs by 1/k = {1 / p.k:.2g}."),
+    }
     for name, approx, title in (("error-eq8", plane.range_ratio_resal(A, f=F, nu=p.map_nu), "eq. (8)"),
                                 ("error-eq9", plane.range_ratio_small_angle(np.full_like(A, p.map_nu)), "eq. (9)")):
         err = np.clip(np.abs(approx - exact) / np.abs(exact), 1e-6, None)
+        caption, reading = texts[name]
         out.append(FigureSpec(
             name, f"Relative error of {title} against the exact range ratio (ν = {p.map_nu:g}, no spin)",
             "α0 (degrees)", "f",
             (layer("heatmap", np.degrees(alpha), f, z=np.log10(err), label="log10 relative error"),
              layer("line", boundary_alpha[keep], f[keep], label="slide / grip boundary (first impact)",
                    color="w", style="--")),
-            (0.0, float(np.degrees(p.map_alpha_max))), (0.0, p.map_f_max),
-            "Left of the dashed line the contact slides during the whole impact, where (8) is exact."))
+            (0.0, float(np.degrees(p.map_alpha_max))), (0.0, p.map_f_max), caption, reading))
     return out
 
 
-def _figure_estimators(rows: list[tuple]) -> FigureSpec:
+def _figure_estimators(rows: list[tuple], names: dict[str, str]) -> FigureSpec:
     layers = []
+    surfaces = [r[0] for r in rows if r[1] == "positions"]
     for i, name in enumerate(("positions", "flight times")):
         sel = [r for r in rows if r[1] == name]
         xs = np.arange(len(sel)) + (i - 0.5) * 0.15
         layers.append(layer("errorbar", xs, [r[3] - r[2] for r in sel], [r[5] for r in sel],
                             label=f"ν̂ − ν from {name} (mean ± s.d.)", color=f"C{i}", marker="o"))
-    layers.append(layer("line", [-0.5, len(rows) / 2 - 0.5], [0, 0], color="0.5", style=":"))
+    layers.append(layer("line", [-0.5, len(surfaces) - 0.5], [0, 0], color="0.5", style=":"))
+    sd = {name: max(r[5] for r in rows if r[1] == name) for name in ("positions", "flight times")}
+    worst = max((r for r in rows if r[1] == "positions"), key=lambda r: r[5])
     return FigureSpec("estimators", "Bias and spread of the two ν estimators (synthetic)",
-                      "surface: " + ", ".join(r[0] for r in rows if r[1] == "positions"), "ν̂ − ν", tuple(layers))
+                      f"surface (synthetic series, {rows[0][7]} seeds each)", "ν̂ − ν", tuple(layers),
+                      (-0.5, len(surfaces) - 0.5),
+                      xticklabels=tuple(textwrap.fill(names.get(sid, sid), 16) for sid in surfaces),
+                      reading=f"For each surface, the error of ν fitted to {rows[0][7]} synthetic series generated "
+                              "with a known ν: the dot is the mean error (the bias), the bar one standard deviation. "
+                              f"Flight times give ν with a spread of at most {sd['flight times']:.1g}; imprint "
+                              f"positions alone scatter up to {sd['positions']:.1g} ({names.get(worst[0], worst[0])}).")

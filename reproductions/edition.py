@@ -1,0 +1,476 @@
+"""The reader's edition of a results folder: ``index.html`` (self-contained, figures beside it) and ``report.pdf``
+(``edition_pdf``), both rendered from one ``Edition`` built here from the summaries, beside the index and the
+paper table of ``report``. The findings come from the configs' ``findings:`` lists (carried by summary.json)."""
+
+from __future__ import annotations
+
+import ast
+import functools
+import html
+import re
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+from . import __version__
+from .config import FINDINGS, REASONS
+from .edition_model import Edition, FigureEntry, FindingEntry, Rich, RowEntry, SectionEntry, Span
+from .report import (
+    VERDICTS,
+    _atomic_text,
+    _atomic_write,
+    _fmt,
+    _summaries,
+    computed_text,
+    difference_text,
+    index_md,
+    paper_rows,
+    paper_table_csv,
+    paper_table_md,
+    paper_table_tex,
+    parse_source,
+    today_value,
+    tolerance_text,
+    verdict_counts,
+)
+
+__all__ = ["build", "function_of", "index_html", "plain", "readable", "rich_html", "write_index"]
+
+_EXPERIMENTS = Path(__file__).resolve().parent / "experiments"
+_KIND_MODULE = {"spheres": "ballball"}  # a kind whose module is named otherwise
+# a finding's category, short (its badge; the long words of config.FINDINGS are its title) and its badge's colours
+CATEGORY = {"erratum": ("slip of 1883", "differs"), "formula": ("formula wrong", "differs"),
+            "premise": ("premise fails", "not-checkable"), "beyond": ("not in the paper", "beyond"),
+            "holds": ("Résal right", "reproduced")}
+VERDICT_LABEL = {"reproduced": "reproduced", "differs": "differs", "not-checkable": "not checkable"}
+_LATEX = {r"\alpha": "α", r"\beta": "β", r"\gamma": "γ", r"\delta": "δ", r"\epsilon": "ε", r"\varepsilon": "ε",
+          r"\zeta": "ζ", r"\eta": "η", r"\theta": "θ", r"\lambda": "λ", r"\mu": "μ", r"\nu": "ν", r"\xi": "ξ",
+          r"\pi": "π", r"\rho": "ρ", r"\sigma": "σ", r"\tau": "τ", r"\phi": "φ", r"\varphi": "φ", r"\chi": "χ",
+          r"\psi": "ψ", r"\omega": "ω", r"\Delta": "Δ", r"\Omega": "Ω", r"\cdot": "·", r"\times": "×",
+          r"\sqrt": "√", r"\int": "∫", r"\pm": "±", r"\mp": "∓", r"\leq": "≤", r"\geq": "≥", r"\le": "≤",
+          r"\ge": "≥", r"\infty": "∞", r"\prime": "′", r"\left": "", r"\right": "", r"\,": " ", r"\;": " "}
+_LETTER = re.compile(r"[A-Za-zα-ωΑ-Ω]")
+
+
+# -- formulas as a reader writes them ---------------------------------------------------------------------------
+def _group(text: str, i: int) -> tuple[str, int]:
+    """The script that starts at ``text[i]``: a balanced {…} or (…) (without its brackets), else a run of up to
+    three letters, digits and primes. Returns (content, index after it); ("", i) when there is none."""
+    if i >= len(text):
+        return "", i
+    if text[i] in "{(":
+        close = "}" if text[i] == "{" else ")"
+        depth = 0
+        for j in range(i, len(text)):
+            depth += text[j] == text[i]
+            depth -= text[j] == close
+            if depth == 0:
+                return text[i + 1:j], j + 1
+        return "", i
+    m = re.match(r"[A-Za-z0-9α-ωΑ-Ω½′]{1,3}", text[i:])
+    return (m.group(0), i + m.end()) if m else ("", i)
+
+
+def _script_allowed(text: str, i: int) -> bool:
+    """Whether the ``_`` at ``i`` starts a subscript: after ∫, or after a symbol of one or two letters (v_y, dx_i),
+    never inside an identifier such as eq9_beyond or f_today."""
+    if i > 0 and text[i - 1] == "∫":
+        return True
+    j = i
+    while j > 0 and text[j - 1] in "′″":
+        j -= 1
+    k = j
+    while k > 0 and _LETTER.match(text[k - 1]):
+        k -= 1
+    if not 1 <= j - k <= 2 or (k > 0 and (text[k - 1].isalnum() or text[k - 1] == "_")):
+        return False
+    content, end = _group(text, i + 1)
+    return bool(content) and (end >= len(text) or not (text[end].isalnum() or text[end] == "_"))
+
+
+def readable(text: str | None) -> Rich:
+    """A formula or a note as spans a reader recognises: LaTeX commands as Unicode, ``x_i``, ``x_{…}``, ``x^(…)``
+    and ``x^{…}`` as sub- and superscripts, ``$`` dropped. Text without them comes back as one span."""
+    s = text or ""
+    if "\\" in s:
+        for cmd in sorted(_LATEX, key=len, reverse=True):
+            s = re.sub(re.escape(cmd) + r"(?![A-Za-z])", _LATEX[cmd], s)
+    s = s.replace("$", "")
+    spans: list[Span] = []
+    buf: list[str] = []
+    i = 0
+    while i < len(s):
+        ch = s[i]
+        if ch in "_^" and (ch == "^" or _script_allowed(s, i)):
+            content, end = _group(s, i + 1)
+            if content:
+                if buf:
+                    spans.append(Span("".join(buf)))
+                    buf = []
+                spans.append(Span(content, "sub" if ch == "_" else "sup"))
+                i = end
+                continue
+        buf.append(ch)
+        i += 1
+    if buf:
+        spans.append(Span("".join(buf)))
+    return tuple(x for sp in spans for x in (_indices(sp.text) if not sp.style else (sp,)))
+
+
+# a one-letter symbol (primes allowed) with a one- or two-digit index, as the digitised text writes φ₀ or V₁: φ0,
+# τ′0, V1; never inside a word or a number (eq9, 1e-12, V1p)
+_INDEX = re.compile(r"(?<![\w.])([A-Za-zα-ωΑ-Ω][′″]*)(\d{1,2})(?![\w])")
+
+
+def _indices(text: str) -> tuple[Span, ...]:
+    out: list[Span] = []
+    at = 0
+    for m in _INDEX.finditer(text):
+        out.append(Span(text[at:m.end(1)]))
+        out.append(Span(m.group(2), "sub"))
+        at = m.end()
+    out.append(Span(text[at:]))
+    merged: list[Span] = []
+    for sp in out:
+        if sp.text:
+            merged.append(sp)
+    return tuple(merged)
+
+
+def plain(rich: Rich) -> str:
+    """The text of spans, scripts written back with _ and ^ (for a title attribute or a search)."""
+    out = []
+    for s in rich:
+        if s.style in ("sub", "sup"):
+            out.append(("_" if s.style == "sub" else "^") + (s.text if len(s.text) == 1 else f"({s.text})"))
+        else:
+            out.append(s.text)
+    return "".join(out)
+
+
+# -- where a row is defined and computed -------------------------------------------------------------------------
+@functools.cache
+def _functions(kind: str) -> dict[str, str]:
+    """Quantity key → the innermost function of the kind's module that sets it: a dict key, ``x["key"] = …``,
+    ``put("key", …)``; an f-string key (``f"nu.{s.id}"``) counts for its constant prefix, written ``nu.*``."""
+    module = _KIND_MODULE.get(kind, kind)
+    path = _EXPERIMENTS / f"{module}.py"
+    if not path.is_file():
+        return {}
+    found: dict[str, tuple[int, str]] = {}
+
+    def key_of(k: ast.AST) -> str | None:
+        if isinstance(k, ast.Constant) and isinstance(k.value, str):
+            return k.value
+        if isinstance(k, ast.JoinedStr) and k.values and isinstance(k.values[0], ast.Constant):
+            return f"{k.values[0].value}*"
+        return None
+
+    def visit(node: ast.AST, stack: tuple[str, ...]) -> None:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            stack = (*stack, node.name)
+        keys: list[ast.AST] = []
+        if isinstance(node, ast.Dict):
+            keys = [k for k in node.keys if k is not None]
+        elif isinstance(node, (ast.Assign, ast.AnnAssign)):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            keys = [t.slice for t in targets if isinstance(t, ast.Subscript)]
+        elif isinstance(node, ast.Call) and node.args:
+            keys = [node.args[0]]
+        for k in keys:
+            key = key_of(k)
+            if stack and key:
+                depth = len(stack)
+                if key not in found or depth > found[key][0]:
+                    found[key] = (depth, stack[-1])
+        for child in ast.iter_child_nodes(node):
+            visit(child, stack)
+
+    visit(ast.parse(path.read_text(encoding="utf-8")), ())
+    return {k: f"reproductions.experiments.{module}.{name}" for k, (_, name) in found.items()}
+
+
+def function_of(kind: str, quantity: str) -> str:
+    """The function that computes a quantity of a kind, read off its module's source (``run`` when none names it)."""
+    module = _KIND_MODULE.get(kind, kind)
+    table = _functions(kind)
+    if quantity in table:
+        return table[quantity]
+    prefixes = [k for k in table if k.endswith("*") and quantity.startswith(k[:-1])]
+    if prefixes:
+        return table[max(prefixes, key=len)]
+    return f"reproductions.experiments.{module}.run"
+
+
+# -- the edition as data ----------------------------------------------------------------------------------------
+def _config_name(s: dict[str, Any]) -> str:
+    cfg = (s.get("provenance") or {}).get("config") or f"{s['experiment']}.yaml"
+    return f"configs/{Path(cfg).name}"
+
+
+def _row(name: str, s: dict[str, Any], r: dict[str, Any], computed_key: str) -> RowEntry:
+    section, n, eq = parse_source(r.get("source"))
+    reason = r.get("reason") or ""
+    cfg = _config_name(s)
+    return RowEntry(
+        experiment=s["experiment"], id=r["id"], anchor=f"{s['experiment']}--{r['id']}",
+        section=f"{section} n°{n}" if n else section, equation=eq, paper_line=r.get("line"),
+        quantity=readable(r["quantity"]), printed=readable(r["printed_text"]), printed_value=_fmt(r["printed"]),
+        computed=computed_text(r), difference=difference_text(r), tolerance=tolerance_text(r),
+        tolerance_rule=r.get("tolerance_rule") or "", verdict=r["verdict"], reason=reason,
+        reason_label=REASONS.get(reason, ""), note=readable(r["note"]),
+        today=today_value(r.get("today"), s.get("modern", ())),
+        config=f"{cfg}:{r['config_line']}" if r.get("config_line") else cfg,
+        function=function_of(s["kind"], computed_key))
+
+
+def _figures(name: str, s: dict[str, Any]) -> tuple[FigureEntry, ...]:
+    captions = {c["png"]: c for c in s.get("figure_captions", [])}
+    out = []
+    for f in s["figures"]:
+        if not f.endswith(".png"):
+            continue
+        c = captions.get(f, {})
+        title = c.get("title") or f
+        caption = c.get("caption") or ""
+        pdf = f[:-4] + ".pdf"
+        out.append(FigureEntry(png=f"{name}/{f}", pdf=f"{name}/{pdf}" if pdf in s["figures"] else "", title=title,
+                               caption=caption, alt=f"Figure: {title}." + (f" {caption}" if caption else "")))
+    return tuple(out)
+
+
+def build(summaries: Iterable[tuple[str, dict[str, Any]]]) -> Edition:
+    """The edition of a results folder's summaries ((folder name, summary) in the paper's order)."""
+    summaries = list(summaries)
+    sections = []
+    lines: dict[str, int] = {}
+    for name, s in summaries:
+        rows = tuple(_row(name, s, r, r.get("computes") or r["id"]) for r in s["rows"])
+        for r in s["rows"]:
+            lines[f"{s['experiment']}--{r['id']}"] = r.get("line") or 10 ** 6
+        page = s["source"].get("page")
+        sections.append(SectionEntry(
+            experiment=s["experiment"], title=s["title"],
+            source=s["source"]["section"] + (f", p. {page}" if page else ""),
+            question=readable(s.get("question") or ""), figures=_figures(name, s), rows=rows,
+            counts=verdict_counts(s["rows"])[0], folder=name, notes=tuple(readable(n) for n in s.get("notes", []))))
+    findings = []
+    for name, s in summaries:
+        for f in s.get("findings", []):
+            fig = f"{name}/{f['figure']}.png" if f.get("figure") else None
+            findings.append(FindingEntry(
+                experiment=s["experiment"], id=f["id"], category=f["category"],
+                category_label=FINDINGS.get(f["category"], f["category"]), consequence=int(f["consequence"]),
+                text=readable(f["text"]), rows=tuple(f"{s['experiment']}--{r}" for r in f["rows"]), figure=fig))
+    findings.sort(key=lambda f: (-f.consequence, min(lines.get(a, 10 ** 6) for a in f.rows), f.experiment, f.id))
+    all_rows = [r for _, s in summaries for r in s["rows"]]
+    counts, reasons = verdict_counts(all_rows)
+    prov = next((s.get("provenance") or {} for _, s in summaries), {})
+    commit = prov.get("git_commit")
+    return Edition(
+        title="Résal (1883) checked claim by claim",
+        subtitle=("H. Résal, “Commentaire à la théorie mathématique du jeu de billard”, J. Math. Pures Appl. "
+                  "(3) 9 (1883), 65–98: every printed value and claim, recomputed from the paper's own premises"),
+        counts=counts, reasons=reasons, findings=tuple(findings), sections=tuple(sections),
+        provenance=f"resal {prov.get('version', __version__)}" + (f", commit {commit[:12]}" if commit else "")
+        + (" (uncommitted changes)" if prov.get("dirty") else ""))
+
+
+# -- HTML -------------------------------------------------------------------------------------------------------
+def _h(text: str) -> str:
+    return html.escape(text, quote=True)
+
+
+def rich_html(rich: Rich) -> str:
+    """Spans as HTML: sub, sup, em and code elements, the text escaped."""
+    tags = {"sub": "sub", "sup": "sup", "em": "em", "code": "code"}
+    return "".join(f"<{tags[s.style]}>{_h(s.text)}</{tags[s.style]}>" if s.style in tags else _h(s.text)
+                   for s in rich)
+
+
+_CSS = """
+:root{--fg:#1a1a1a;--muted:#4a4a4a;--line:#d0d0d0;--bg:#ffffff;--ok:#0b5d1e;--okbg:#e3f1e6;--bad:#9b1c1c;
+--badbg:#fbe7e7;--na:#6b4e00;--nabg:#fbf1d6;--link:#0b4f9c}
+*{box-sizing:border-box}
+html{-webkit-text-size-adjust:100%}
+body{margin:0 auto;max-width:62rem;padding:0 1rem 4rem;font:16px/1.5 Georgia,"DejaVu Serif",serif;color:var(--fg);
+background:var(--bg);overflow-wrap:anywhere}
+h1,h2,h3,h4{font-family:system-ui,"DejaVu Sans",sans-serif;line-height:1.25}
+h1{font-size:1.7rem;margin:1.5rem 0 .3rem}
+h2{font-size:1.35rem;margin:2.5rem 0 .5rem;border-top:2px solid var(--fg);padding-top:.6rem}
+h3{font-size:1.05rem;margin:1.2rem 0 .4rem}
+a{color:var(--link)}
+.sub{color:var(--muted);margin:.2rem 0 1rem}
+.counts{font-family:system-ui,"DejaVu Sans",sans-serif}
+.badge{display:inline-block;padding:0 .45em;border-radius:.3em;font:600 .85rem/1.6 system-ui,"DejaVu Sans",sans-serif;
+white-space:nowrap}
+.reproduced{color:var(--ok);background:var(--okbg)}
+.differs{color:var(--bad);background:var(--badbg)}
+.not-checkable{color:var(--na);background:var(--nabg)}
+.cat{color:#fff;background:#3b3b3b}
+.beyond{color:#0b3d6b;background:#e2ecf7}
+ol.findings{padding-left:1.4rem}
+ol.findings li{margin:.2rem 0 .9rem}
+.evidence{font-size:.9rem;color:var(--muted)}
+nav ul{columns:2 16rem;padding-left:1.2rem}
+figure{margin:1rem 0;border:1px solid var(--line);padding:.5rem}
+figure img{display:block;max-width:100%;height:auto}
+figcaption{font-size:.92rem;color:var(--muted);margin-top:.4rem}
+.question{font-style:italic}
+.filters{display:flex;flex-wrap:wrap;gap:.5rem 1rem;align-items:end;background:#f4f4f4;padding:.6rem;margin:1rem 0;
+font-family:system-ui,"DejaVu Sans",sans-serif;position:sticky;top:0;z-index:1}
+.filters[hidden],.none[hidden]{display:none}
+.filters label{display:flex;flex-direction:column;font-size:.85rem}
+.filters select{font-size:1rem;max-width:100%}
+article.row{border:1px solid var(--line);border-left:5px solid var(--line);padding:.4rem .7rem;margin:.6rem 0}
+article.row.v-reproduced{border-left-color:var(--ok)}
+article.row.v-differs{border-left-color:var(--bad)}
+article.row.v-not-checkable{border-left-color:var(--na)}
+article.row[hidden]{display:none}
+article.row h4{margin:.1rem 0 .3rem;font-size:1rem}
+dl{display:grid;grid-template-columns:minmax(6rem,9rem) 1fr;gap:.1rem .8rem;margin:0}
+dt{font:600 .85rem/1.7 system-ui,"DejaVu Sans",sans-serif;color:var(--muted)}
+dd{margin:0}
+code{font-size:.85em;overflow-wrap:anywhere}
+.printed{font-style:italic}
+@media (max-width:30rem){dl{grid-template-columns:1fr}dt{margin-top:.3rem}body{padding:0 .6rem 3rem}
+.filters{position:static}}
+@media print{.filters{display:none}article.row{break-inside:avoid}}
+"""
+
+_JS = """
+(function(){
+  var box=document.getElementById('filters');box.hidden=false;
+  var sel={verdict:document.getElementById('f-verdict'),reason:document.getElementById('f-reason'),
+           section:document.getElementById('f-section')};
+  var rows=document.querySelectorAll('article.row');var shown=document.getElementById('f-shown');
+  function apply(){var n=0;
+    rows.forEach(function(r){var ok=true;
+      for(var k in sel){var v=sel[k].value;if(v&&r.dataset[k]!==v){ok=false;}}
+      r.hidden=!ok;if(ok){n++;}});
+    document.querySelectorAll('section.experiment').forEach(function(s){
+      var any=s.querySelector('article.row:not([hidden])');s.querySelector('.none').hidden=!!any;});
+    shown.textContent=n+' of '+rows.length+' rows shown';}
+  for(var k in sel){sel[k].addEventListener('change',apply);}
+  apply();
+})();
+"""
+
+
+def _options(name: str, label: str, values: list[tuple[str, str]]) -> str:
+    opts = "".join(f'<option value="{_h(v)}">{_h(t)}</option>' for v, t in values)
+    return (f'<label for="f-{name}">{_h(label)}<select id="f-{name}"><option value="">all</option>{opts}</select>'
+            "</label>")
+
+
+def _row_html(r: RowEntry) -> str:
+    verdict = f'<span class="badge {r.verdict}">{VERDICT_LABEL[r.verdict]}</span>'
+    reason = f' <span class="badge cat" title="{_h(r.reason_label)}">{_h(r.reason)}</span>' if r.reason else ""
+    where = r.section + (f", {r.equation}" if r.equation else "") + (
+        f", line {r.paper_line}" if r.paper_line else "")
+    items = [("claim", rich_html(r.quantity)), ("printed", f'<span class="printed">{rich_html(r.printed)}</span>'),
+             ("computed", _h(r.computed)), ("difference", _h(r.difference)),
+             ("tolerance", _h(r.tolerance) + (f" — {_h(r.tolerance_rule)}" if r.tolerance_rule else "")),
+             ("verdict", verdict + reason + (f" — {_h(r.reason_label)}" if r.reason_label else "")),
+             ("note", rich_html(r.note))]
+    if r.today:
+        items.append(("today", _h(r.today)))
+    items.append(("defined in", f"<code>{_h(r.config)}</code>; computed by <code>{_h(r.function)}</code>"))
+    dl = "".join(f"<dt>{k}</dt><dd>{v}</dd>" for k, v in items)
+    return (f'<article class="row v-{r.verdict}" id="{_h(r.anchor)}" data-verdict="{r.verdict}" '
+            f'data-reason="{_h(r.reason or "none")}" data-section="{_h(r.section.split(" ")[0])}">'
+            f"<h4>{_h(r.id)} <span class=\"sub\">({_h(where)})</span> {verdict}{reason}</h4><dl>{dl}</dl></article>")
+
+
+def _evidence(anchor: str, r: RowEntry | None) -> str:
+    """A finding's row: its link, and what it found (printed → computed, verdict)."""
+    if r is None:
+        return f'<a href="#{_h(anchor)}">{_h(anchor)}</a>'
+    found = (f"printed {_h(r.printed_value)}, computed {_h(r.computed)}" if r.printed_value != "—" else
+             _h(r.computed) if r.computed != "—" else "")
+    return (f'<a href="#{_h(anchor)}">{_h(r.id)}</a> ({found + ", " if found else ""}'
+            f'{VERDICT_LABEL[r.verdict]}{" · " + _h(r.reason) if r.reason else ""})')
+
+
+def _figure_html(f: FigureEntry) -> str:
+    vector = f' (<a href="{_h(f.pdf)}">PDF</a>)' if f.pdf else ""
+    return (f'<figure><a href="{_h(f.png)}"><img src="{_h(f.png)}" alt="{_h(f.alt)}"></a>'
+            f"<figcaption><strong>{_h(f.title)}.</strong> {_h(f.caption)}{vector}</figcaption></figure>")
+
+
+def _counts_html(counts: dict[str, int]) -> str:
+    return ", ".join(f'<span class="badge {v}">{counts.get(v, 0)} {VERDICT_LABEL[v]}</span>' for v in VERDICTS)
+
+
+def index_html(ed: Edition) -> str:
+    """The reader's edition as one HTML page: styles and script inline, figures linked beside it."""
+    total = sum(ed.counts.values())
+    anchors = {r.anchor: r for s in ed.sections for r in s.rows}
+    out = ['<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n',
+           '<meta name="viewport" content="width=device-width, initial-scale=1">\n',
+           f"<title>{_h(ed.title)}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n",
+           f"<header><h1>{_h(ed.title)}</h1><p class=\"sub\">{_h(ed.subtitle)}.</p>",
+           f'<p class="counts">{total} printed values and claims: {_counts_html(ed.counts)}. Tables: '
+           '<a href="paper-table.csv">paper-table.csv</a> · <a href="paper-table.md">paper-table.md</a> · '
+           '<a href="report.pdf">report.pdf</a> (this edition on paper).</p></header>\n<main>\n',
+           '<section id="findings"><h2>What Résal got right and wrong</h2>',
+           "<p>The findings that matter, most consequential first. Each names the rows (and the figure) that carry "
+           "it; the rows below give the printed text, the computed value and the reason.</p>",
+           '<ol class="findings">']
+    for f in ed.findings:
+        ev = "; ".join(_evidence(a, anchors.get(a)) for a in f.rows)
+        fig = f' · figure <a href="{_h(f.figure)}">{_h(Path(f.figure).name)}</a>' if f.figure else ""
+        short, style = CATEGORY.get(f.category, (f.category, "cat"))
+        out.append(f'<li><span class="badge {style}" title="{_h(f.category_label)}">{_h(short)}</span> '
+                   f'{rich_html(f.text)} '
+                   f'<span class="evidence">({_h(f.experiment)}: {ev}{fig})</span></li>')
+    out.append("</ol></section>\n")
+    out.append('<nav aria-label="Experiments"><h2>The experiments, in the paper\'s order</h2><ul>')
+    out += [f'<li><a href="#exp-{_h(s.experiment)}">{_h(s.title)}</a> ({_h(s.source)})</li>' for s in ed.sections]
+    out.append("</ul></nav>\n")
+    reasons = sorted({r.reason for s in ed.sections for r in s.rows if r.reason})
+    sections = []
+    for s in ed.sections:
+        for r in s.rows:
+            sec = r.section.split(" ")[0]
+            if sec not in sections:
+                sections.append(sec)
+    out.append('<div class="filters" id="filters" hidden role="search">'
+               + _options("verdict", "verdict", [(v, VERDICT_LABEL[v]) for v in VERDICTS])
+               + _options("reason", "reason", [("none", "none (no reason given)"), *((r, r) for r in reasons)])
+               + _options("section", "section of the paper", [(x, x) for x in sections])
+               + '<span id="f-shown" aria-live="polite"></span></div>\n')
+    for s in ed.sections:
+        out.append(f'<section class="experiment" id="exp-{_h(s.experiment)}"><h2>{_h(s.title)}</h2>')
+        out.append(f'<p class="sub">{_h(s.source)} · <code>{_h(s.experiment)}</code> · {_counts_html(s.counts)} · '
+                   f'files: <a href="{_h(s.folder)}/table.md">table.md</a>, '
+                   f'<a href="{_h(s.folder)}/summary.json">summary.json</a></p>')
+        if s.question:
+            out.append(f'<p class="question">{rich_html(s.question)}</p>')
+        out += [f"<p>{rich_html(n)}</p>" for n in s.notes]
+        out += [_figure_html(f) for f in s.figures]
+        out.append(f"<h3>Its {len(s.rows)} rows</h3>")
+        out += [_row_html(r) for r in s.rows]
+        out.append('<p class="none" hidden>No row of this experiment matches the filters.</p></section>\n')
+    out.append(f'</main>\n<footer><p class="sub">{_h(ed.provenance)}.</p></footer>\n')
+    out.append(f"<script>{_JS}</script>\n</body>\n</html>\n")
+    return "".join(out)
+
+
+# -- writing a results folder's whole-paper files ----------------------------------------------------------------
+def write_index(out: Path) -> Path:
+    """``out/index.md`` and ``out/paper-table.{md,csv,tex}`` (``report``), the reader's edition ``out/index.html``
+    and ``out/report.pdf`` from the summaries found under ``out``, each written whole and renamed into place."""
+    from .edition_pdf import write_pdf  # matplotlib: imported only when a report is written
+
+    summaries = _summaries(out)
+    rows = paper_rows(summaries)
+    path = out / "index.md"
+    _atomic_text(path, index_md(summaries))
+    _atomic_text(out / "paper-table.md", paper_table_md(rows))
+    _atomic_text(out / "paper-table.csv", paper_table_csv(rows))
+    _atomic_text(out / "paper-table.tex", paper_table_tex(rows))
+    ed = build(summaries)
+    _atomic_text(out / "index.html", index_html(ed))
+    _atomic_write(out / "report.pdf", lambda fh: write_pdf(ed, out, fh))
+    return path

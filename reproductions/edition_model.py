@@ -1,0 +1,89 @@
+"""The reader's edition as data: findings first, then one section per experiment, built from the summaries of a
+results folder. ``edition.html`` and ``edition_pdf`` render the same object, so the browser and the paper
+say the same thing. No I/O here but reading the summaries' own files' names."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+__all__ = ["Edition", "FigureEntry", "FindingEntry", "Rich", "RowEntry", "SectionEntry", "Span"]
+
+
+@dataclass(frozen=True)
+class Span:
+    """A run of text: ``style`` is "" (plain), "sub", "sup" (a sub- or superscript), "em" or "code"."""
+
+    text: str
+    style: str = ""
+
+
+Rich = tuple[Span, ...]  # text with its sub- and superscripts, as a reader writes a formula
+
+
+@dataclass(frozen=True)
+class FindingEntry:
+    experiment: str
+    id: str
+    category: str  # a code of config.FINDINGS
+    category_label: str  # its words, for people
+    consequence: int  # 1 … 5, the rank's key
+    text: Rich
+    rows: tuple[str, ...]  # anchors of the rows that carry it ("<experiment>--<row id>")
+    figure: str | None  # the figure's PNG, relative to the results folder
+
+
+@dataclass(frozen=True)
+class RowEntry:
+    experiment: str
+    id: str
+    anchor: str  # "<experiment>--<row id>", unique in the edition
+    section: str  # "§I n°5"
+    equation: str  # "eq. (9)" or ""
+    paper_line: int | None  # line of the digitised text
+    quantity: Rich
+    printed: Rich  # the paper's own writing, as printed
+    printed_value: str  # the number read from it, or "—"
+    computed: str
+    difference: str  # "+1.23 %" (relative), "Δ = +0.8 (absolute: printed 0)", "discrepancy 2e-16", or "—"
+    tolerance: str  # "±0.5 %" or "≤ 1e-9 (discrepancy)" or "—"
+    tolerance_rule: str
+    verdict: str  # reproduced | differs | not-checkable
+    reason: str  # a code of config.REASONS, or ""
+    reason_label: str
+    note: Rich
+    today: str  # today's value beside it, or ""
+    config: str  # "configs/<id>.yaml:<line>"
+    function: str  # "reproductions.experiments.<kind module>.<function>" that computes it
+
+
+@dataclass(frozen=True)
+class FigureEntry:
+    png: str  # relative to the results folder
+    pdf: str  # the vector version, relative to the results folder ("" if none)
+    title: str
+    caption: str  # what is plotted and what to look at
+    alt: str  # the alt text
+
+
+@dataclass(frozen=True)
+class SectionEntry:
+    experiment: str
+    title: str
+    source: str  # "§I n°5, p. 72"
+    question: Rich
+    figures: tuple[FigureEntry, ...]
+    rows: tuple[RowEntry, ...]
+    counts: dict[str, int]  # verdict → number of rows
+    folder: str  # the experiment's folder, relative to the results folder
+    notes: tuple[Rich, ...] = field(default=())
+
+
+@dataclass(frozen=True)
+class Edition:
+    title: str
+    subtitle: str
+    counts: dict[str, int]  # verdict → rows, over the whole paper
+    reasons: dict[str, int]  # reason → rows that differ
+    findings: tuple[FindingEntry, ...]  # ranked: consequence, then paper order
+    sections: tuple[SectionEntry, ...]  # the paper's order
+    provenance: str  # version and commit, one line
