@@ -39,8 +39,8 @@ __all__ = ["build", "function_of", "index_html", "plain", "readable", "rich_html
 _EXPERIMENTS = Path(__file__).resolve().parent / "experiments"
 _KIND_MODULE = {"spheres": "ballball"}  # a kind whose module is named otherwise
 # a finding's category, short (its badge; the long words of config.FINDINGS are its title) and its badge's colours
-CATEGORY = {"erratum": ("slip of 1883", "differs"), "formula": ("formula wrong", "differs"),
-            "premise": ("premise fails", "not-checkable"), "beyond": ("not in the paper", "beyond"),
+CATEGORY = {"erratum": ("slip of 1883", "differs"), "formula": ("formula wrong", "formula"),
+            "premise": ("premise fails", "premise"), "beyond": ("not in the paper", "beyond"),
             "holds": ("Résal right", "reproduced")}
 VERDICT_LABEL = {"reproduced": "reproduced", "differs": "differs", "not-checkable": "not checkable"}
 _LATEX = {r"\alpha": "α", r"\beta": "β", r"\gamma": "γ", r"\delta": "δ", r"\epsilon": "ε", r"\varepsilon": "ε",
@@ -118,16 +118,32 @@ def readable(text: str | None) -> Rich:
 
 
 # a one-letter symbol (primes allowed) with a one- or two-digit index, as the digitised text writes φ₀ or V₁: φ0,
-# τ′0, V1; never inside a word or a number (eq9, 1e-12, V1p)
-_INDEX = re.compile(r"(?<![\w.])([A-Za-zα-ωΑ-Ω][′″]*)(\d{1,2})(?![\w])")
+# τ′0, V1, nφ0, n0R, φ0², 2V′0; never inside a word or a number (eq9, 1e-12, 2e5, V1p, f_today)
+_INDEX = re.compile(r"([A-Za-zα-ωΑ-Ω])([′″]*)(\d{1,2})")
+_GREEK = re.compile(r"[α-ωΑ-Ω]")
+
+
+def _is_index(text: str, m: re.Match) -> bool:
+    sym, primes = m.group(1), m.group(2)
+    before = text[m.start() - 1] if m.start() else " "
+    after = text[m.end()] if m.end() < len(text) else " "
+    if _GREEK.match(sym):
+        ok_before = not (_GREEK.match(before) or before in "_.")
+    else:
+        ok_before = not (before.isalpha() or before in "_." or (before.isdigit() and not primes))
+    ok_after = (not (after.isalnum() or after == "_") or after in "²³"
+                or (after.isupper() and after.isascii() and (sym.islower() or _GREEK.match(sym) is not None)))
+    return ok_before and ok_after
 
 
 def _indices(text: str) -> tuple[Span, ...]:
     out: list[Span] = []
     at = 0
     for m in _INDEX.finditer(text):
-        out.append(Span(text[at:m.end(1)]))
-        out.append(Span(m.group(2), "sub"))
+        if not _is_index(text, m):
+            continue
+        out.append(Span(text[at:m.end(2)]))
+        out.append(Span(m.group(3), "sub"))
         at = m.end()
     out.append(Span(text[at:]))
     merged: list[Span] = []
@@ -326,7 +342,12 @@ article.row{border:1px solid var(--line);border-left:5px solid var(--line);paddi
 article.row.v-reproduced{border-left-color:var(--ok)}
 article.row.v-differs{border-left-color:var(--bad)}
 article.row.v-not-checkable{border-left-color:var(--na)}
-article.row[hidden]{display:none}
+article.row[hidden],figure[hidden],.rows-heading[hidden]{display:none}
+article.row,section.experiment,#findings li{scroll-margin-top:8rem}
+.rank{font:600 .8rem/1 system-ui,"DejaVu Sans",sans-serif;color:var(--muted);white-space:nowrap}
+.premise{color:#4b2173;background:#efe6f7}
+.formula{color:#7a3300;background:#fbe9dc}
+dl.glossary{font-size:.92rem}
 article.row h4{margin:.1rem 0 .3rem;font-size:1rem}
 dl{display:grid;grid-template-columns:minmax(6rem,9rem) 1fr;gap:.1rem .8rem;margin:0}
 dt{font:600 .85rem/1.7 system-ui,"DejaVu Sans",sans-serif;color:var(--muted)}
@@ -334,7 +355,7 @@ dd{margin:0}
 code{font-size:.85em;overflow-wrap:anywhere}
 .printed{font-style:italic}
 @media (max-width:30rem){dl{grid-template-columns:1fr}dt{margin-top:.3rem}body{padding:0 .6rem 3rem}
-.filters{position:static}}
+.filters{position:static}article.row,section.experiment,#findings li{scroll-margin-top:1rem}}
 @media print{.filters{display:none}article.row{break-inside:avoid}}
 """
 
@@ -349,12 +370,26 @@ _JS = """
       for(var k in sel){var v=sel[k].value;if(v&&r.dataset[k]!==v){ok=false;}}
       r.hidden=!ok;if(ok){n++;}});
     document.querySelectorAll('section.experiment').forEach(function(s){
-      var any=s.querySelector('article.row:not([hidden])');s.querySelector('.none').hidden=!!any;});
+      var any=!!s.querySelector('article.row:not([hidden])');s.querySelector('.none').hidden=any;
+      s.querySelectorAll('figure, .rows-heading').forEach(function(e){e.hidden=!any;});});
     shown.textContent=n+' of '+rows.length+' rows shown';}
   for(var k in sel){sel[k].addEventListener('change',apply);}
+  document.addEventListener('click',function(e){
+    var a=e.target.closest('a[href^="#"]');if(!a){return;}
+    var t=document.getElementById(decodeURIComponent(a.getAttribute('href').slice(1)));
+    if(t&&t.closest('[hidden]')){for(var k in sel){sel[k].value='';}apply();}});
   apply();
 })();
 """
+
+
+def _roman(section: str) -> tuple[int, str]:
+    """§IV → 4: the order of the paper's sections (anything else after them)."""
+    values = {"I": 1, "V": 5, "X": 10, "L": 50, "C": 100}
+    digits = [values.get(c, 0) for c in section.lstrip("§")]
+    if not digits or 0 in digits:
+        return (10 ** 6, section)
+    return (sum(-d if i + 1 < len(digits) and d < digits[i + 1] else d for i, d in enumerate(digits)), section)
 
 
 def _options(name: str, label: str, values: list[tuple[str, str]]) -> str:
@@ -402,6 +437,36 @@ def _counts_html(counts: dict[str, int]) -> str:
     return ", ".join(f'<span class="badge {v}">{counts.get(v, 0)} {VERDICT_LABEL[v]}</span>' for v in VERDICTS)
 
 
+# the words and symbols a reader meets in the rows (the paper's notation, §I)
+SYMBOLS = (
+    ("vis viva", "m v², the “living force” of the period: twice the kinetic energy"),
+    ("ε, ε′", "Résal's energy-loss coefficients of the two bodies (§I): the vis viva lost in an impact is "
+              "governed by them; ε = 0 loses nothing in the restitution, ε = 1 is a plastic impact"),
+    ("e", "Newton's coefficient of restitution; for a ball on a fixed body e = (1 − ε)/(1 + ε) (eq. (9))"),
+    ("ν", "the normal-velocity yield: the normal velocity after an impact over the one before (§III–IV)"),
+    ("f", "the coefficient of friction between the bodies in contact (ball–cloth, ball–cushion, ball–ball)"),
+    ("k", "a ball's moment of inertia is M R²/k: k = 5/2 for a homogeneous sphere"),
+    ("discrepancy", "for a printed formula: its largest difference from the exact mechanics (a direct numerical "
+                    "integration), in the units the row's note gives; within its tolerance the formula holds"),
+)
+
+
+def _glossary(ed: Edition) -> str:
+    verdicts = (("reproduced", "what resal computes from the paper's premises agrees with the printed value within "
+                               "its printed digits (or the formula within its tolerance)"),
+                ("differs", "it does not; the reason says why"),
+                ("not-checkable", "nothing can be computed or compared (a measurement the paper reports, a claim "
+                                  "without a number)"))
+    items = [f'<dt><span class="badge {v}">{VERDICT_LABEL[v]}</span></dt><dd>{_h(t)}</dd>' for v, t in verdicts]
+    items += [f'<dt><span class="badge cat">{_h(k)}</span></dt><dd>{_h(v)}</dd>' for k, v in REASONS.items()
+              if k in ed.reasons]
+    items += [f"<dt>{_h(k)}</dt><dd>{_h(v)}</dd>" for k, v in SYMBOLS]
+    return ('<section id="reading"><h2>How to read the rows</h2><p>Each row is one printed value or claim of the '
+            "paper: the claim in words, the text as printed, what resal computes, their difference and the tolerance "
+            "it is judged with, the verdict and, for a row that differs, its reason. The words:</p>"
+            f'<dl class="glossary">{"".join(items)}</dl></section>\n')
+
+
 def index_html(ed: Edition) -> str:
     """The reader's edition as one HTML page: styles and script inline, figures linked beside it."""
     total = sum(ed.counts.values())
@@ -422,19 +487,15 @@ def index_html(ed: Edition) -> str:
         fig = f' · figure <a href="{_h(f.figure)}">{_h(Path(f.figure).name)}</a>' if f.figure else ""
         short, style = CATEGORY.get(f.category, (f.category, "cat"))
         out.append(f'<li><span class="badge {style}" title="{_h(f.category_label)}">{_h(short)}</span> '
-                   f'{rich_html(f.text)} '
+                   f'<span class="rank">consequence {f.consequence}/5</span> {rich_html(f.text)} '
                    f'<span class="evidence">({_h(f.experiment)}: {ev}{fig})</span></li>')
     out.append("</ol></section>\n")
     out.append('<nav aria-label="Experiments"><h2>The experiments, in the paper\'s order</h2><ul>')
     out += [f'<li><a href="#exp-{_h(s.experiment)}">{_h(s.title)}</a> ({_h(s.source)})</li>' for s in ed.sections]
     out.append("</ul></nav>\n")
+    out.append(_glossary(ed))
     reasons = sorted({r.reason for s in ed.sections for r in s.rows if r.reason})
-    sections = []
-    for s in ed.sections:
-        for r in s.rows:
-            sec = r.section.split(" ")[0]
-            if sec not in sections:
-                sections.append(sec)
+    sections = sorted({r.section.split(" ")[0] for s in ed.sections for r in s.rows}, key=_roman)
     out.append('<div class="filters" id="filters" hidden role="search">'
                + _options("verdict", "verdict", [(v, VERDICT_LABEL[v]) for v in VERDICTS])
                + _options("reason", "reason", [("none", "none (no reason given)"), *((r, r) for r in reasons)])
@@ -449,7 +510,7 @@ def index_html(ed: Edition) -> str:
             out.append(f'<p class="question">{rich_html(s.question)}</p>')
         out += [f"<p>{rich_html(n)}</p>" for n in s.notes]
         out += [_figure_html(f) for f in s.figures]
-        out.append(f"<h3>Its {len(s.rows)} rows</h3>")
+        out.append(f'<h3 class="rows-heading">Its {len(s.rows)} rows</h3>')
         out += [_row_html(r) for r in s.rows]
         out.append('<p class="none" hidden>No row of this experiment matches the filters.</p></section>\n')
     out.append(f'</main>\n<footer><p class="sub">{_h(ed.provenance)}.</p></footer>\n')

@@ -25,11 +25,16 @@ ROOT = Path(__file__).resolve().parent.parent
     ("v_y = η", [Span("v"), Span("y", "sub"), Span(" = η")]),
     ("φ0 = U/(1 + n)", [Span("φ"), Span("0", "sub"), Span(" = U/(1 + n)")]),
     ("τ′0", [Span("τ′"), Span("0", "sub")]),
+    ("−nφ0", [Span("−nφ"), Span("0", "sub")]),  # a product: n times φ₀
+    ("n0²R²", [Span("n"), Span("0", "sub"), Span("²R²")]),
+    ("n0R", [Span("n"), Span("0", "sub"), Span("R")]),
+    ("2V′0", [Span("2V′"), Span("0", "sub")]),
     ("(φ0/φ)^((1+k)/2)", [Span("(φ"), Span("0", "sub"), Span("/φ)"), Span("(1+k)/2", "sup")]),
     ("∫_{η0}^{η1} dη", [Span("∫"), Span("η0", "sub"), Span("η1", "sup"), Span(" dη")]),
     (r"$\varepsilon \le 1$", [Span("ε ≤ 1")]),
     # identifiers, numbers and words stay whole
-    ("eq9_beyond, f_today, 1e-12, V1p, eq. (9), n°14", [Span("eq9_beyond, f_today, 1e-12, V1p, eq. (9), n°14")]),
+    ("eq9_beyond, f_today, 1e-12, 2e5, V1p, eq. (9), n°14",
+     [Span("eq9_beyond, f_today, 1e-12, 2e5, V1p, eq. (9), n°14")]),
 ])
 def test_formulas_read_as_a_reader_writes_them(text, spans):
     assert list(edition.readable(text)) == spans

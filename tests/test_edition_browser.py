@@ -116,6 +116,19 @@ def test_each_filter_shows_exactly_what_it_names(browser, edition):
         page.select_option("#f-reason", "erratum")
         shown = page.eval_on_selector_all("article.row:not([hidden])", "els => els.length")
         assert shown == sum(r["verdict"] == "differs" and r["reason"] == "erratum" for r in rows) > 0
+        # a section with no row shown hides its figures too; a link to a hidden row clears the filters
+        page.select_option("#f-reason", "")
+        page.select_option("#f-verdict", "reproduced")
+        empty = page.eval_on_selector_all(
+            "section.experiment", "ss => ss.filter(s => !s.querySelector('article.row:not([hidden])'))"
+                                  ".map(s => [s.id, s.querySelectorAll('figure:not([hidden])').length])")
+        assert all(n == 0 for _, n in empty)
+        target = next(f"{r['experiment']}--{r['id']}" for r in rows if r["verdict"] == "differs")
+        assert page.is_hidden(f"[id='{target}']")
+        page.evaluate("id => { const a = document.createElement('a'); a.href = '#' + id; a.textContent = 'x'; "
+                      "document.getElementById('findings').appendChild(a); a.click(); }", target)
+        assert page.is_visible(f"[id='{target}']")
+        assert page.eval_on_selector("#f-verdict", "e => e.value") == ""
         assert errors == []
     finally:
         ctx.close()
