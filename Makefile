@@ -3,20 +3,47 @@ PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+LOCK   := requirements.lock
+# pip-tools for `make lock`, in a virtualenv of its own (inside .venv) so that it adds nothing to the tested one
+LOCKTOOLS := $(VENV)/lock-tools
+PIPTOOLS  := pip-tools==7.6.2
 
-.PHONY: setup all test lint bench stress golden clean
+.PHONY: setup lock all test lint bench stress golden clean
 
-setup: $(STAMP)
+# `make setup` always reinstalls (what the lock check asks for when .venv drifted); the other targets set up only
+# when requirements.lock or pyproject.toml changed since the last setup
+setup:
+	@rm -f $(STAMP)
+	@$(MAKE) --no-print-directory $(STAMP)
 
-$(STAMP): pyproject.toml
+# The locked versions, every file's hash checked (requirements.lock: runtime and test dependencies, the build
+# backend included), then resal itself, editable, no dependency resolved, built by the locked setuptools.
+$(STAMP): pyproject.toml $(LOCK)
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install -q -e '.[test]'
+	$(BIN)/python -m pip install -q --require-hashes -r $(LOCK)
+	$(BIN)/python -m pip install -q --no-deps --no-build-isolation -e .
 	@touch $(STAMP)
+
+# Rewrites requirements.lock from pyproject.toml's ranges, each pin the version installed in .venv today (its
+# `pip freeze` as constraints: nothing moves that you did not move), with the hashes of every file of that version.
+# To move a version: `.venv/bin/pip install -U NAME` (or edit pyproject.toml's range), `make lock`, then run the
+# suite (`make test`) and the golden check (`make golden`, then `git diff tests/golden`: any number that moved must
+# be understood) before committing the lock: it records what the tests and the goldens were made with.
+lock:
+	@test -x $(BIN)/python || { echo "no $(VENV): run make setup first" >&2; exit 2; }
+	@test -x $(LOCKTOOLS)/bin/pip-compile || { $(BIN)/python -m venv $(LOCKTOOLS) \
+	  && $(LOCKTOOLS)/bin/python -m pip install -q '$(PIPTOOLS)'; }
+	$(BIN)/python -m pip freeze --all --exclude-editable | grep -v '^pip==' > $(VENV)/installed.txt
+	CUSTOM_COMPILE_COMMAND="make lock" $(LOCKTOOLS)/bin/pip-compile -q --extra test --generate-hashes \
+	  --allow-unsafe --strip-extras --no-emit-index-url --no-emit-find-links --no-emit-trusted-host \
+	  -c $(VENV)/installed.txt -o $(LOCK) pyproject.toml
 
 all: $(STAMP)
 	$(BIN)/resal reproduce --all
 
+# the lock check first: one line, exit 2, when .venv's versions are not requirements.lock's
 test: $(STAMP)
+	@$(BIN)/python tests/lockcheck.py $(LOCK)
 	$(BIN)/ruff check .
 	$(BIN)/python -m pytest
 

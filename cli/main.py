@@ -17,7 +17,9 @@ from pathlib import Path
 from typing import Annotated, Any, NoReturn
 
 import typer
+from rich import box
 from rich.console import Console
+from rich.padding import Padding
 from rich.table import Table
 from rich.text import Text
 
@@ -31,7 +33,6 @@ err_console = Console(stderr=True)
 VERDICT_STYLE = {"reproduced": "green", "differs": "bold red", "not-checkable": "yellow"}
 
 
-MAX_RADIUS = 1.0  # m: `resal fit ricochet --R`; a radius in millimetres (30.5) is refused, not read as 30 m
 
 
 def _json(obj: Any) -> str:
@@ -82,6 +83,10 @@ def list_cmd() -> None:
         exps = api.list_experiments()
     except InputError as err:
         _fail(err)
+    if not exps:  # one line naming where it looked, exit 2 (not an empty table)
+        d = api.config_dir()
+        where = f"{d} ($RESAL_CONFIGS)" if os.environ.get("RESAL_CONFIGS") else str(d)
+        _fail(InputError(where, f"no experiments found ({'no *.yaml file there' if d.is_dir() else 'no such folder'})"))
     t = Table(title=f"experiments in {api.config_dir()}")
     for c in ("id", "section", "title", "kind"):
         t.add_column(c)
@@ -94,10 +99,12 @@ WIDE_TABLE = 140  # columns: below, a table of many columns folds words mid-word
 
 
 def _print_rows(title: str, headers: tuple[str, ...], rows: list[tuple[list[str], str]], lead: tuple[str, ...],
-                note_width: int = 60, lines: bool = False) -> None:
+                note_width: int = 60, lines: bool = False,
+                record: Callable[[dict[str, str]], list[tuple[str, str]]] | None = None) -> None:
     """Rows of cells (each with its style, for the ``verdict`` cell): a table on a wide console; on a narrow one
     (or piped at 80 columns) a record per row, its ``lead`` cells as a heading and the others as ``label: value``
-    lines wrapped at words, so that no word is broken."""
+    lines wrapped at words, so that no word is broken. ``record`` gives those lines from the row's cells by
+    header (several cells on one line), instead of one line per non-empty cell."""
     if out_console.width >= WIDE_TABLE:
         t = Table(title=title, show_lines=lines, title_justify="left")
         for h in headers:
@@ -117,10 +124,29 @@ def _print_rows(title: str, headers: tuple[str, ...], rows: list[tuple[list[str]
         grid = Table.grid(padding=(0, 1))
         grid.add_column(style="dim", no_wrap=True)
         grid.add_column(overflow="fold")
-        for h in headers:
-            if h not in lead and by[h]:
-                grid.add_row(f"  {h}", Text(by[h]))
+        pairs = record(by) if record else [(h, by[h]) for h in headers if h not in lead and by[h]]
+        for label, value in pairs:
+            grid.add_row(f"  {label}", Text(value))
         out_console.print(grid)
+
+
+def _experiment_record(by: dict[str, str]) -> list[tuple[str, str]]:
+    """An experiment's row as a record: where it is printed (section, line), the printed value, the computed one
+    with its relative difference and the reason it differs, the note."""
+    where = by["§ / eq."] + (f", line {by['line']}" if by["line"] not in ("", "—") else "")
+    more = [f"{label}{by[h]}" for h, label in (("rel. diff", "rel. diff "), ("reason", "reason: "))
+            if by[h] not in ("", "—")]
+    computed = by["computed"] + (f" ({'; '.join(more)})" if more else "")
+    return [(label, text) for label, text in (("where", where), ("printed", by["printed"]), ("computed", computed),
+                                              ("note", by["note"])) if text]
+
+
+def _fit_record(by: dict[str, str]) -> list[tuple[str, str]]:
+    """A fit as a record: the value with its standard error and interval on one line, then the note."""
+    value = by["value"] + (f" ± {by['std. error']}" if by["std. error"] != "—" else "")
+    value += f", 95 % interval {by['95 % interval']}" if by["95 % interval"] != "—" else ""
+    value += "" if by["identifiable"] == "yes" or "not identifiable" in by["note"] else " (not identifiable)"
+    return [("value", value), ("note", by["note"])] if by["note"] else [("value", value)]
 
 
 def _render(s: dict[str, Any]) -> None:
@@ -129,15 +155,27 @@ def _render(s: dict[str, Any]) -> None:
 
     _print_rows(f"{s['experiment']}: {s['title']}", HEADERS,
                 [(row_cells(r), VERDICT_STYLE.get(r["verdict"], "")) for r in s["rows"]], ("verdict", "quantity"),
-                lines=True)
+                lines=True, record=_experiment_record)
     if s["fits"]:
         out_console.print()
         _print_fits(s["fits"], "fits")
 
 
+def _print_items(lead: str, items: list[str], indent: str = "") -> None:
+    """``lead`` and a comma-separated list, wrapped between items, never inside one ("repair 8", "T (kg·m/s)")."""
+    line = indent + lead
+    for j, item in enumerate(items):
+        item = f" {item}" + ("," if j < len(items) - 1 else "")
+        if len(line) + len(item) > out_console.width and line.strip():
+            out_console.print(Text(line), highlight=False, soft_wrap=True)
+            line = indent + " "
+        line += item
+    out_console.print(Text(line), highlight=False, soft_wrap=True)
+
+
 def _render_summary(summaries: list[dict[str, Any]], folders: list[Path]) -> None:
-    """Several experiments: one line each (its verdict counts and its folder), then the totals with the reasons
-    of the differing rows. Lines are not folded, so that they stay greppable."""
+    """Several experiments: one line each (its verdict counts), the totals, the reasons of the differing rows and
+    where the folders are. Each experiment's line stays under 80 columns, unfolded, so that it stays greppable."""
     from reproductions.report import VERDICTS, verdict_counts
 
     width = max([5, *(len(s["experiment"]) for s in summaries)])
@@ -145,27 +183,74 @@ def _render_summary(summaries: list[dict[str, Any]], folders: list[Path]) -> Non
     def counts_text(rows: list[dict[str, Any]]) -> Text:
         counts, _ = verdict_counts(rows)
         text = Text()
-        for v in VERDICTS:
+        for j, v in enumerate(VERDICTS):
             text.append(f"{counts[v]:>4} ", style=VERDICT_STYLE[v] if counts[v] else "")
-            text.append(f"{v}  ")
+            text.append(v + ("  " if j < len(VERDICTS) - 1 else ""))
         return text
 
-    for s, folder in zip(summaries, folders, strict=True):
-        out_console.print(Text(f"{s['experiment']:<{width}} ") + counts_text(s["rows"]) + Text(str(folder)),
-                          soft_wrap=True, highlight=False)
+    for s in summaries:
+        out_console.print(Text(f"{s['experiment']:<{width}} ") + counts_text(s["rows"]), soft_wrap=True,
+                          highlight=False)
     rows = [r for s in summaries for r in s["rows"]]
     _, why = verdict_counts(rows)
-    reasons = ("; differing: " + ", ".join(f"{k} {n}" for k, n in why.items())) if why else ""
-    out_console.print(Text(f"{'total':<{width}} ", style="bold") + counts_text(rows) +
-                      Text(f"({len(rows)} rows{reasons})"), soft_wrap=True, highlight=False)
+    out_console.print(Text(f"{'total':<{width}} ", style="bold") + counts_text(rows) + Text(f" ({len(rows)} rows)"),
+                      soft_wrap=True, highlight=False)
+    if why:
+        _print_items("differing rows by reason:", [f"{k} {n}" for k, n in why.items()])
+    parents = {f.parent for f in folders}
+    where = f"{parents.pop() / '<experiment>'}/" if len(parents) == 1 else ", ".join(map(str, folders))
+    out_console.print(Text(f"folders: {where}", overflow="ignore"), highlight=False)
+
+
+def _load_experiments(experiments: list[str] | None, all_: bool, out: Path) -> list[Any]:
+    """The experiments named (and with --all every one), each loaded and validated; two of one id are refused."""
+    from reproductions import api
+
+    names = list(experiments or [])
+    if all_:
+        names += [i for i in api.experiment_ids() if i not in names]
+    if not names:
+        raise InputError("arguments", "name an experiment id, a YAML path, or use --all")
+    exps = [api.load(n) for n in names]
+    seen: dict[str, str] = {}
+    for n, e in zip(names, exps, strict=True):
+        if e.id in seen:
+            raise InputError(n, f"experiment id '{e.id}' is also the id of {seen[e.id]}: both would write "
+                                f"{out / e.id}")
+        seen[e.id] = n
+    return exps
+
+
+def _print_summaries(experiments: list[str] | None, all_: bool, jobs: int | None) -> None:
+    """``reproduce --json`` without ``--out``: run, print the summaries (as summary.json holds them), write
+    nothing (a pipe does not expect files in the current folder)."""
+    from reproductions import api, report
+
+    try:
+        with api.interruptible():
+            exps = _load_experiments(experiments, all_, Path("results"))
+            jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, len(exps)))
+            with err_console.status("running"):
+                reps = api.parallel_map(api.run, exps, jobs)
+            summaries = [report.summary(r, report.provenance(r)) for r in reps]
+    except InputError as err:
+        _fail(err)
+    except Interrupted as exc:
+        err_console.print(Text("error: ", style="bold red") + Text(f"interrupted ({exc.name}); nothing written"),
+                          soft_wrap=True)
+        _exit_now(128 + exc.signum)
+    typer.echo(_json(summaries[0] if len(summaries) == 1 else summaries))
 
 
 @app.command()
 def reproduce(
     experiments: Annotated[list[str] | None, typer.Argument(help="experiment ids or YAML paths")] = None,
     all_: Annotated[bool, typer.Option("--all", help="every experiment in configs/")] = False,
-    as_json: Annotated[bool, typer.Option("--json", help="print summary.json on stdout instead of tables")] = False,
-    out: Annotated[Path, typer.Option("--out", help="results folder", parser=_out_folder)] = Path("results"),
+    as_json: Annotated[bool, typer.Option("--json", help="print the summary.json of each experiment on stdout "
+                                                         "instead of tables; writes no file unless --out is given")
+                       ] = False,
+    out: Annotated[Path | None, typer.Option("--out", help="results folder (default: results, in the current "
+                                                           "folder)", parser=_out_folder)] = None,
     jobs: Annotated[int | None, typer.Option(help=f"processes, 1 to {MAX_JOBS} (default: one per core)",
                                              parser=_count("--jobs", 1, MAX_JOBS, "a number of processes"))] = None,
     verbose: Annotated[bool, typer.Option("--verbose", "-v", help="print every experiment's full table (one "
@@ -173,24 +258,17 @@ def reproduce(
 ) -> None:
     """Run experiments, compare every printed value, write tables and figures into OUT/<experiment>/ and the
     paper's index, table, reader's edition (index.html) and report.pdf into OUT. One experiment prints its full
-    table; several, a summary."""
+    table; several, a summary. With --json and no --out, only prints: nothing is written."""
     from reproductions import api, edition, report
 
+    if as_json and out is None:
+        _print_summaries(experiments, all_, jobs)
+        return
+    out = out if out is not None else Path("results")
     folders: list[Path] = []
     try:
         with api.interruptible():
-            names = list(experiments or [])
-            if all_:
-                names += [i for i in api.experiment_ids() if i not in names]
-            if not names:
-                raise InputError("arguments", "name an experiment id, a YAML path, or use --all")
-            exps = [api.load(n) for n in names]  # validate everything before running or writing anything
-            seen: dict[str, str] = {}
-            for n, e in zip(names, exps, strict=True):
-                if e.id in seen:
-                    raise InputError(n, f"experiment id '{e.id}' is also the id of {seen[e.id]}: both would "
-                                        f"write {out / e.id}")
-                seen[e.id] = n
+            exps = _load_experiments(experiments, all_, out)  # all validated before anything runs or is written
             report.ensure_writable(out)
             report.clean_stale(out)  # what a killed run (SIGKILL) of ours left behind
             jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, len(exps)))
@@ -238,12 +316,15 @@ def simulate(
     model: Annotated[str | None, typer.Argument(help="model name; see --list")] = None,
     set_: Annotated[list[str] | None, typer.Option("--set", help="name=value: SI units, angles in degrees, "
                                                                   "vectors as x,y,z")] = None,
-    as_json: Annotated[bool, typer.Option("--json", help="print one JSON object")] = False,
-    list_: Annotated[bool, typer.Option("--list", help="list the models, their parameters and paths")] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="print one JSON object (its 'units' give each input's "
+                                                         "and output's unit)")] = False,
+    list_: Annotated[bool, typer.Option("--list", help="list the models: their parameters (units, ranges, "
+                                                       "defaults), paths and outputs")] = False,
     method: Annotated[str, typer.Option(help="solution path: auto (the cheapest exact one for the scene) or a "
                                              "path of the model (see --list)")] = "auto",
 ) -> None:
-    """Run one scene of a mechanics model and print its outputs."""
+    """Run one scene of a mechanics model and print its inputs and outputs, each with its unit (SI; angles in
+    degrees, as the inputs are)."""
     from reproductions.models import list_models
     from reproductions.models import simulate as run_scene
 
@@ -251,17 +332,8 @@ def simulate(
         info = list_models()
         if as_json:
             typer.echo(_json(info))
-            return
-        t = Table(title=f"models ({info['units']})")
-        for c in ("model", "what", "parameters (default; * must be given)", "paths (cost)"):
-            t.add_column(c, overflow="fold")
-        for m in info["models"]:
-            params = ", ".join(f"{p['name']}*" if p["required"] else
-                               f"{p['name']}={p['default']:g}" if not p["vector"] else f"{p['name']}={p['default']}"
-                               for p in m["parameters"])
-            t.add_row(m["model"], f"{m['doc']} ({m['section']})", params,
-                      ", ".join(f"{p['name']} ({p['cost']})" for p in m["paths"]))
-        out_console.print(t)
+        else:
+            _print_models(info)
         return
     try:
         if model is None:
@@ -272,19 +344,81 @@ def simulate(
     if as_json:
         typer.echo(_json(result))
         return
-    t = Table(title=f"{result['model']}: {result['label']} (path {result['path_name']}, "
-                    f"regime {result['regime_name']})")
-    t.add_column("name")
-    t.add_column("value")
-    for k, v in result["inputs"].items():
-        t.add_row(f"in  {k}", ", ".join(f"{x:.10g}" for x in v) if isinstance(v, list) else f"{v:.10g}")
-    for k, v in result["outputs"].items():
-        if isinstance(v, list):
-            text = ", ".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in _flat(v))
-        else:
-            text = f"{v:.10g}" if isinstance(v, float) else str(v)
-        t.add_row(f"out {k}", Text(text))
+    described = next(m for m in list_models()["models"] if m["model"] == model)
+    meaning = {p["name"]: p["doc"] for p in described["parameters"]} | {o["name"]: o["doc"]
+                                                                       for o in described["outputs"]}
+    out_console.print(Text(result["model"], style="bold") + Text(f": path {result['path_name']}, regime "
+                                                                 f"{result['regime_name']}"))
+    out_console.print(Text(result["label"]))
+    t = _plain_table()
+    for c in ("", "name", "value", "unit", "meaning"):
+        t.add_column(c, no_wrap=c in ("", "name", "unit"), overflow="fold")
+    for side in ("inputs", "outputs"):
+        values, units = result[side], result["units"][side]
+        for j, (k, v) in enumerate(values.items()):
+            t.add_row("in" if side == "inputs" and j == 0 else "out" if j == 0 else "", k,
+                      _value_text(v, regimes=units[k] == "code"), _unit_text(units[k]), meaning[k],
+                      end_section=side == "inputs" and j == len(values) - 1)
     out_console.print(t)
+
+
+def _plain_table() -> Table:
+    """A table that reads piped: no frame, a rule under the header, two spaces between columns."""
+    return Table(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False, padding=(0, 1), collapse_padding=True)
+
+
+def _unit_text(unit: str) -> str:
+    """A unit as printed: codes and flags need none (their values are names and true/false)."""
+    return "" if unit in ("code", "flag") else unit
+
+
+def _value_text(v: Any, digits: int = 10, regimes: bool = False) -> str:
+    """A simulate value as printed: lists flattened (components, or one value per impact), regime codes named."""
+    from reproductions.mechanics.paths import Regime
+
+    if v is None:
+        return "—"
+    if isinstance(v, list):
+        return ", ".join(_value_text(x, 6, regimes) for x in _flat(v))
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if regimes:
+        return Regime(v).name.lower().replace("_", "-")
+    return f"{v:.{digits}g}" if isinstance(v, float) else str(v)
+
+
+def _range_cell(p: dict[str, Any]) -> str:
+    """A parameter's admissible range, short: "(0, 1]", "> 0", "any"; "whole" for a count."""
+    text = p["range"].removeprefix("a number").strip()
+    text = text.removeprefix("in ").strip() or "any"
+    return f"whole, {text}" if p["integer"] else text
+
+
+def _default_cell(p: dict[str, Any]) -> str:
+    if p["required"]:
+        return "required"
+    d = p["default"]
+    return ",".join([f"{d:g}"] * 3) if p["vector"] else f"{d:g}"
+
+
+def _print_models(info: dict[str, Any]) -> None:
+    """``simulate --list``: per model a heading, its paths, a table of its parameters (name, unit, range,
+    default, meaning) and its outputs with their units. Narrow columns never wrap; the meanings wrap at words."""
+    out_console.print(Text("models of resal simulate", style="bold"))
+    out_console.print(Text(f"units: {info['units']}; a parameter without a default must be given (--set "
+                           f"name=value); --list --json gives the same with path and regime codes"))
+    for m in info["models"]:
+        out_console.print()
+        out_console.print(Text(m["model"], style="bold") + Text(f": {m['doc']} ({m['section']})"))
+        _print_items("paths (cost):", [f"{p['name']} ({p['cost']})" for p in m["paths"]], indent="  ")
+        out_console.print(Padding(Text(f"admits: {m['admits']}"), (0, 0, 0, 2), expand=False))
+        t = _plain_table()
+        for c in ("parameter", "unit", "range", "default", "meaning"):
+            t.add_column(c, no_wrap=c != "meaning", overflow="fold")
+        for p in m["parameters"]:
+            t.add_row(p["name"], p["unit"], _range_cell(p), _default_cell(p), p["doc"])
+        out_console.print(Padding(t, (0, 0, 0, 2), expand=False))
+        _print_items("outputs:", [f"{o['name']} ({o['unit']})" for o in m["outputs"]], indent="  ")
 
 
 def _flat(v: list[Any]) -> list[Any]:
@@ -300,7 +434,7 @@ def _print_fits(fits: list[dict[str, Any]], title: str) -> None:
                       "—" if ci[0] is None else f"[{ci[0]:.4g}, {ci[1]:.4g}]", "yes" if x["identifiable"] else "no",
                       x["note"]], ""))
     _print_rows(title, ("parameter", "value", "std. error", "95 % interval", "identifiable", "note"), rows,
-                ("parameter",))
+                ("parameter",), record=_fit_record)
 
 
 # ---- resal fit <kind> ----------------------------------------------------------------------------------------
@@ -344,39 +478,19 @@ fit_app = typer.Typer(cls=_FitGroup, no_args_is_help=True, rich_markup_mode=None
                            "data.csv`; `resal fit <kind> --help` gives that kind's columns and an example.")
 app.add_typer(fit_app, name="fit")
 
-_NOISES = ("auto", "constant", "proportional")
 
 
-def _positive(name: str, what: str) -> Callable[[str], float]:
-    def parse(text: str) -> float:
+def _fit_option(name: str) -> Callable[[str], Any]:
+    """The parser of the fit option ``name``: ``reproductions.fit.options.check``, as ``api.fit`` checks it."""
+    from reproductions.fit import options
+
+    flag = "--" + name.replace("_", "-")
+
+    def parse(text: str) -> Any:
         try:
-            v = float(text)
-        except ValueError:
-            v = math.nan
-        if not (math.isfinite(v) and v > 0):
-            _fail(InputError(f"{name} {text}", f"expected a positive number ({what}, finite)"))
-        return v
-    return parse
-
-
-K_MIN = 1.5  # MR²/I of a sphere: a thin shell's 1.5 is the least any spherically symmetric ball can have
-
-
-def _k_ratio(text: str) -> float:
-    """--k, MR²/I: at least 1.5 (a thin shell; a homogeneous ball 2.5); 0.4 is I/MR², the other convention."""
-    v = _positive("--k", "MR²/I, 2.5 for a solid ball")(text)
-    if v < K_MIN:
-        hint = f" (--k {1 / v:.3g}?)" if 1 / v >= K_MIN else ""
-        _fail(InputError(f"--k {text}", f"expected MR²/I ≥ {K_MIN:g} (a thin shell; a solid ball 2.5): {text} reads "
-                                        f"as I/MR², the inverse convention{hint}"))
-    return v
-
-
-def _choice(name: str, choices: tuple[str, ...]) -> Callable[[str], str]:
-    def parse(text: str) -> str:
-        if text not in choices:
-            _fail(InputError(f"{name} {text}", f"expected one of {', '.join(choices)}"))
-        return text
+            return options.check(name, text, lambda t: f"{flag} {t}")
+        except InputError as err:
+            _fail(err)
     return parse
 
 
@@ -386,57 +500,47 @@ def _fit_options() -> dict[str, tuple[Any, Any]]:
 
     return {
         "sigma": (Annotated[float | None, typer.Option(
-            "--sigma", parser=_positive("--sigma", "a standard deviation"),
+            "--sigma", parser=_fit_option("sigma"),
             help="known standard deviation of each measured outcome (V1, h1, V1p, the clicks t…), in the data's own "
                  "unit as the header gives it (V1_cmps: cm/s; no unit: SI)")], None),
         "sigma_in": (Annotated[float | None, typer.Option(
-            "--sigma-in", parser=_positive("--sigma-in", "a standard deviation"),
+            "--sigma-in", parser=_fit_option("sigma_in"),
             help="known standard deviation of each measured impact (V0, u0 or h0), in its column's unit as the "
                  "header gives it: the fit then takes errors in both variables (effective variance); without "
                  "--sigma the outcome's σ is estimated")], None),
         "noise": (Annotated[str, typer.Option(
-            "--noise", parser=_choice("--noise", _NOISES),
+            "--noise", parser=_fit_option("noise"),
             help="how the outcome scatters: constant, proportional (to the impact), or auto (the likelier of the "
                  "two, by the data); not with --sigma, which gives it")], "auto"),
         "speeds": (Annotated[str | None, typer.Option(
-            "--speeds", parser=_choice("--speeds", ("signed", "unsigned")),
+            "--speeds", parser=_fit_option("speeds"),
             help="read V0,V1 as signed velocities (V1 ≤ 0, the default) or as unsigned speeds")], None),
-        "g": (Annotated[float, typer.Option("--g", parser=_positive("--g", "gravity in m/s²"),
+        "g": (Annotated[float, typer.Option("--g", parser=_fit_option("g"),
                                             help="gravity (m/s²)")], 9.80665),
-        "M": (Annotated[float | None, typer.Option("--M", parser=_positive("--M", "a mass in kg"),
+        "M": (Annotated[float | None, typer.Option("--M", parser=_fit_option("M"),
                                                    help="striking mass (kg), if not a column")], None),
-        "Mp": (Annotated[float | None, typer.Option("--Mp", parser=_positive("--Mp", "a mass in kg"),
+        "Mp": (Annotated[float | None, typer.Option("--Mp", parser=_fit_option("Mp"),
                                                     help="struck mass (kg), if not a column")], None),
-        "R": (Annotated[float, typer.Option("--R", parser=_radius, help="ball radius (m)")], 0.0305),
-        "k": (Annotated[float, typer.Option("--k", parser=_k_ratio,
+        "R": (Annotated[float, typer.Option("--R", parser=_fit_option("R"), help="ball radius (m)")], 0.0305),
+        "k": (Annotated[float, typer.Option("--k", parser=_fit_option("k"),
                                             help="MR²/I of the ball (2.5: homogeneous sphere)")], 2.5),
-        "h0": (Annotated[float | None, typer.Option("--h0", parser=_positive("--h0", "a height in m"),
+        "h0": (Annotated[float | None, typer.Option("--h0", parser=_fit_option("h0"),
                                                     help="drop height (m), released at rest: then g is fitted too")],
                None),
         "sigma_speed": (Annotated[float | None, typer.Option(
-            "--sigma-speed", parser=_positive("--sigma-speed", "a relative standard deviation"),
+            "--sigma-speed", parser=_fit_option("sigma_speed"),
             help="ball-ball: known relative standard deviation of the measured speeds (0.02 = 2 %)")], None),
         "sigma_dir": (Annotated[float | None, typer.Option(
-            "--sigma-dir", parser=_positive("--sigma-dir", "a standard deviation of an angle"),
+            "--sigma-dir", parser=_fit_option("sigma_dir"),
             help="ball-ball: known standard deviation of the measured directions, in their column's unit")], None),
         "max_seconds": (Annotated[float, typer.Option(
-            "--max-seconds", parser=_positive("--max-seconds", "a time in seconds"),
+            "--max-seconds", parser=_fit_option("max_seconds"),
             help="bound on the fit's wall-clock time, its refits included: past it the fit stops with a message "
                  "(exit 1) and writes nothing")], 120.0),
         "bootstrap": (Annotated[int, typer.Option(
             "--bootstrap", parser=_count("--bootstrap", 0, fitkinds.MAX_RESAMPLES, "a number of resamples"),
             help="bootstrap resamples, each refitted (0: none)")], 1000),
     }
-
-
-def _radius(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        v = math.nan
-    if not (math.isfinite(v) and 0 < v <= MAX_RADIUS):
-        _fail(InputError(f"--R {text}", f"expected a ball radius in metres, in (0, {MAX_RADIUS:g}]"))
-    return v
 
 
 def _fit_command(name: str) -> None:
@@ -595,6 +699,40 @@ def _known_models(models: list[str] | None) -> list[str]:
     return names
 
 
+def _print_grouped(title: str, headers: tuple[str, ...], groups: list[tuple[str, list[tuple[list[str], str]]]],
+                   right: tuple[int, ...] = ()) -> None:
+    """A table of rows grouped under a heading each (a model), the first column indented under it: names are
+    codes a user types, so no cell is ever cut or folded; a row's note goes on the lines below it, wrapped at
+    words. Fits 80 columns for the bench and the stress reports (their widest codes are 24 characters)."""
+    import textwrap
+
+    indent = "  "
+    widths = [len(h) for h in headers]
+    for name, rows in groups:
+        widths[0] = max(widths[0], len(name))
+        for cells, _ in rows:
+            widths = [max(w, len(c) + (len(indent) if i == 0 else 0)) for i, (w, c) in enumerate(zip(widths, cells,
+                                                                                                     strict=True))]
+
+    def line(cells: list[str] | tuple[str, ...]) -> str:
+        return "  ".join(c.rjust(w) if i in right else c.ljust(w) for i, (c, w) in
+                         enumerate(zip(cells, widths, strict=True))).rstrip()
+
+    out_console.print(Text(title, style="bold"), highlight=False)
+    out_console.print(Text(line(headers), style="bold"), highlight=False)
+    out_console.print(Text("─" * len(line(headers))), highlight=False)
+    for name, rows in groups:
+        out_console.print(Text(name, style="bold"), highlight=False)
+        for cells, note in rows:
+            out_console.print(Text(line([indent + cells[0], *cells[1:]]), overflow="ignore"), highlight=False,
+                              soft_wrap=True)
+            if note:
+                pad = " " * (2 * len(indent))
+                for ln in textwrap.wrap(note, max(20, out_console.width - len(pad)), break_long_words=False,
+                                        break_on_hyphens=False):
+                    out_console.print(Text(pad + ln), highlight=False, soft_wrap=True)
+
+
 @app.command()
 def bench(
     models: Annotated[list[str] | None, typer.Argument(help="models (default: all; see simulate --list)")] = None,
@@ -621,16 +759,18 @@ def bench(
         written = bench_mod.write(rep, out)
     except OSError as err:
         _fail(InputError(f"--out {out}", f"cannot write the benchmark ({err.strerror or err})"))
-    t = Table(title="work-precision (scenes per second; max error where the path declares itself exact)")
-    for c in ("model", "path", "kind", "scenes/s", "max error", "auto"):
-        t.add_column(c)
+    groups = []
     for mod in rep["models"]:
         wrong = [v for v in mod["pareto"] if v["faster_and_as_accurate"]]
+        rows = []
         for r in mod["paths"]:
             e = r["where_exact"]["max_error"]
-            t.add_row(mod["model"], r["path"], r["kind"], f"{r['scenes_per_second']:.3g}",
-                      "—" if e is None else f"{e:.2e}", ("wrong" if wrong else "right") if r["path"] == "auto" else "")
-    out_console.print(t)
+            rows.append(([r["path"], r["kind"], f"{r['scenes_per_second']:.3g}", "—" if e is None else f"{e:.2e}",
+                          ("wrong" if wrong else "right") if r["path"] == "auto" else ""], ""))
+        groups.append((mod["model"], rows))
+    _print_grouped("work-precision: scenes per second; max error where the path declares itself exact; auto: "
+                   "wrong if another exact path is faster and as accurate",
+                   ("model / path", "kind", "scenes/s", "max error", "auto"), groups, right=(2, 3))
     err_console.print(f"wrote {', '.join(str(p) for p in written[:2])} and {len(written) - 2} figure files")
 
 
@@ -665,15 +805,18 @@ def stress(
         written = stress_mod.write(rep, out)
     except OSError as err:
         _fail(InputError(f"--out {out}", f"cannot write the stress report ({err.strerror or err})"))
-    t = Table(title=f"stress: {rep['verdict']} ({rep['failures']} failure(s))")
-    for c in ("model", "path", "kind", "scenes", "failures", "findings"):
-        t.add_column(c)
+    groups = []
     for mod in rep["models"]:
+        rows = []
         for r in mod["rows"]:
-            t.add_row(r["model"], r["path"], r["kind"], f"{r['scenes']:,}",
-                      ", ".join(f"{k}: {v}" for k, v in r["failures"].items()) or "none",
-                      ", ".join(f"{k}: {v['scenes']:,}" for k, v in r["findings"].items()))
-    out_console.print(t)
+            failures = ", ".join(f"{k} in {v:,}" for k, v in r["failures"].items())
+            findings = ", ".join(f"{k} in {v['scenes']:,}" for k, v in r["findings"].items())
+            note = "; ".join(x for x in (f"failures: {failures}" if failures else "",
+                                          f"findings: {findings}" if findings else "") if x)
+            rows.append(([r["path"], r["kind"], f"{r['scenes']:,}", str(sum(r["failures"].values()))], note))
+        groups.append((mod["model"], rows))
+    _print_grouped(f"stress: {rep['verdict']} ({rep['failures']} failure(s)); failures and findings (in how many "
+                   "scenes) under their path", ("model / path", "kind", "scenes", "failures"), groups, right=(2, 3))
     err_console.print(f"wrote {', '.join(str(p) for p in written)}")
     if rep["failures"]:
         raise typer.Exit(1)
@@ -695,31 +838,115 @@ def _read_summary(path: Path) -> dict[str, Any]:
     return obj
 
 
-@app.command()
-def diff(
-    a: Annotated[Path, typer.Argument(help="summary.json (or its folder): the reference")],
-    b: Annotated[Path, typer.Argument(help="summary.json (or its folder): the one to check")],
-    rtol: Annotated[float | None, typer.Option(help="one relative tolerance for every number")] = None,
-) -> None:
-    """Compare the numbers of two summaries, provenance ignored; exit 1 when they differ."""
+def _diff_side(path: Path) -> tuple[str, Path]:
+    """What an argument of ``diff`` is: ("summary", file) for a summary.json or an experiment folder holding
+    one; ("results", folder) for a results folder (experiment folders with summary.json, none of its own)."""
+    if not path.is_dir():
+        return "summary", path  # a missing file gets its message from _read_summary
+    if (path / "summary.json").is_file():
+        return "summary", path / "summary.json"
+    if _experiment_folders(path):
+        return "results", path
+    raise InputError(str(path), "holds no summary.json: expected a summary.json file, an experiment folder "
+                                "(results/<id>) or a results folder (results)")
+
+
+def _experiment_folders(folder: Path) -> dict[str, Path]:
+    """Experiment id → its folder, for every folder of ``folder`` that holds a summary.json (not hidden staging)."""
+    try:
+        return {d.name: d for d in sorted(folder.iterdir())
+                if not d.name.startswith(".") and (d / "summary.json").is_file()}
+    except OSError as exc:
+        raise InputError(str(folder), f"cannot read ({exc.strerror})") from None
+
+
+def _compare_summaries(ref: dict[str, Any], new: dict[str, Any],
+                       rtol: float | None) -> tuple[int, list[tuple[str, Any, Any, str]]]:
+    """(number of quantities compared, differences), each difference (key, reference value or ``_ABSENT``, other
+    value or ``_ABSENT``, its tolerance)."""
     from reproductions import golden
 
-    try:
-        if rtol is not None and not (math.isfinite(rtol) and 0 <= rtol < 1):
-            raise InputError(f"--rtol {rtol:g}", "expected a relative tolerance in [0, 1)")
-        ref, new = _read_summary(a), _read_summary(b)
-    except InputError as err:
-        _fail(err)
     g = golden.golden_object(ref)
     if rtol is not None:
         for v in g["values"].values():
             v["rtol"] = rtol
-    diffs = golden.compare(g, new)
-    for d in diffs:
-        out_console.print(Text(d))
-    if diffs:
+    now = golden.flatten(new)
+    lines = golden.compare(g, new)  # the verdict per quantity; the values and labels are ours
+    out = []
+    for k in [*g["values"], *(k for k in now if k not in g["values"])]:
+        if not any(ln.startswith(f"{k}: ") for ln in lines):
+            continue
+        e = g["values"].get(k)
+        tol = "" if e is None else f"rtol {e['rtol']:g}, atol {e['atol']:g}, {e.get('why', '?')}"
+        out.append((k, _ABSENT if e is None else e["value"], now[k][0] if k in now else _ABSENT, tol))
+    return len(g["values"].keys() | now.keys()), out
+
+
+_ABSENT = object()  # a quantity one summary does not have
+
+
+def _print_differences(diffs: list[tuple[str, Any, Any, str]], a: Path, b: Path) -> None:
+    """Each difference: its key (and tolerance), then one line per side, its path and its value."""
+    width = max(len(str(a)), len(str(b))) + 1
+    for key, va, vb, tol in diffs:
+        out_console.print(Text(key, style="bold") + Text(f" ({tol})" if tol else ""), highlight=False)
+        for v, side in ((va, a), (vb, b)):
+            shown = "(absent)" if v is _ABSENT else json.dumps(v, ensure_ascii=False)
+            # a path longer than the line stays whole (not folded); the value wraps at its spaces
+            out_console.print(Text(f"  {str(side) + ':':<{width}} {shown}", overflow="ignore"), highlight=False)
+
+
+@app.command()
+def diff(
+    a: Annotated[Path, typer.Argument(help="the reference: a summary.json, an experiment folder (results/<id>) "
+                                           "or a results folder (results)")],
+    b: Annotated[Path, typer.Argument(help="the one to check, of the same sort as A")],
+    rtol: Annotated[float | None, typer.Option(help="one relative tolerance for every number")] = None,
+) -> None:
+    """Compare the numbers of two experiments' summaries, provenance ignored; or of every experiment two results
+    folders both hold (and name those only one holds). Each difference shows both values, each with its path.
+    Exit status: 0 the same numbers, 1 some differ (or an experiment is in one folder only), 2 bad input."""
+    try:
+        if rtol is not None and not (math.isfinite(rtol) and 0 <= rtol < 1):
+            raise InputError(f"--rtol {rtol:g}", "expected a relative tolerance in [0, 1)")
+        (kind_a, fa), (kind_b, fb) = _diff_side(a), _diff_side(b)
+        if kind_a != kind_b:
+            results, one = (a, b) if kind_a == "results" else (b, a)
+            raise InputError(str(results), f"is a results folder and {one} one experiment: give two experiment "
+                                           f"folders (or summary.json files), or two results folders")
+        if kind_a == "summary":
+            pairs = {"": (fa, fb)}
+            only_a: list[str] = []
+            only_b: list[str] = []
+        else:
+            ea, eb = _experiment_folders(fa), _experiment_folders(fb)
+            pairs = {i: (ea[i] / "summary.json", eb[i] / "summary.json") for i in ea if i in eb}
+            only_a, only_b = [i for i in ea if i not in eb], [i for i in eb if i not in ea]
+        read = {i: (_read_summary(x), _read_summary(y)) for i, (x, y) in pairs.items()}
+    except InputError as err:
+        _fail(err)
+    differ = bool(only_a or only_b)
+    if kind_a == "results":
+        out_console.print(Text(f"{len(pairs)} experiment(s) in both {a} and {b}", style="bold"), highlight=False)
+    for i, (ref, new) in read.items():
+        n, diffs = _compare_summaries(ref, new, rtol)
+        differ |= bool(diffs)
+        head = f"{i}: " if i else ""
+        where = "" if i else f" in {a} and {b}"
+        if ref["experiment"] != new["experiment"]:
+            out_console.print(Text(f"{head}different experiments: {ref['experiment']} in {pairs[i][0]}, "
+                                   f"{new['experiment']} in {pairs[i][1]}"), highlight=False)
+        if diffs:
+            out_console.print(Text(f"{head}{len(diffs)} of {n} quantities differ{where}", style="bold red"),
+                              highlight=False)
+            _print_differences(diffs, *pairs[i])
+        else:
+            out_console.print(Text(f"{head}same numbers{where} ({n} quantities)"), highlight=False)
+    for only, side in ((only_a, a), (only_b, b)):
+        if only:
+            out_console.print(Text(f"only in {side}: ", style="bold red") + Text(", ".join(only)), highlight=False)
+    if differ:
         raise typer.Exit(1)
-    out_console.print(f"same numbers ({len(g['values'])} quantities)")
 
 
 _PROCESS = {"own": False}  # True when this module's main() runs the process (not a test's CliRunner)

@@ -16,14 +16,68 @@ from .config import parse_number
 from .errors import ComputationError, InputError
 from .mechanics import paths, registry
 
-__all__ = ["describe", "list_models", "simulate"]
+__all__ = ["NOT_COMPUTED", "OUTPUTS", "degrees", "describe", "list_models", "simulate"]
 
 
 def _cli(p: paths.Param, value: float | None) -> float | None:
     """A value in the unit the command line uses (degrees for angles)."""
     if value is None:
         return None
-    return math.degrees(value) if p.cli_degrees else value
+    return degrees(value) if p.cli_degrees else value
+
+
+def degrees(radians: float) -> float:
+    """Degrees, rounded to 15 digits: 60° given on the command line comes back as 60, not 59.99999999999999."""
+    return float(f"{math.degrees(radians):.15g}") + 0.0  # + 0.0: no −0
+
+
+# Unit and meaning of every output of ``simulate`` (the fields of each model's result). "degrees": an angle the
+# physics gives in radians, printed in degrees as the command line takes angles; "1": a pure number; "code": a
+# regime code (``list_models()["regime_codes"]``); "flag": true or false.
+OUTPUTS: dict[str, dict[str, tuple[str, str]]] = {
+    "direct-impact": {
+        "V1": ("m/s", "velocity of M after the impact"), "V1p": ("m/s", "velocity of M′ after the impact"),
+        "newton_e": ("1", "Newton's restitution e equivalent to (ε, ε′)"),
+        "vis_viva_lost": ("kg·m²/s²", "vis viva Σmv² lost (twice the kinetic energy lost)")},
+    "wall-impact": {
+        "V1": ("m/s", "normal velocity after the impact (negative: moving away)"),
+        "ratio": ("1", "−V1/V0, Coriolis's ratio of the normal velocities")},
+    "plane-impact": {
+        "chi1": ("m/s", "tangential velocity of the centre after"),
+        "zeta1": ("m/s", "normal velocity after (positive: leaving the plane)"),
+        "p1": ("rad/s", "rotation after")},
+    "ricochet": {
+        "ranges": ("m", "range of the flight after each impact"), "times": ("s", "duration of each flight"),
+        "imprints": ("m", "position of each impact and of the landing after the last flight (the first at 0)"),
+        "chi": ("m/s", "tangential velocity after each impact"), "zeta": ("m/s", "normal velocity after each impact"),
+        "p": ("rad/s", "rotation after each impact"), "regimes": ("code", "friction regime of each impact")},
+    "cloth-slide": {
+        "t_roll": ("s", "time until the ball rolls"), "x_roll": ("m", "distance along x until then"),
+        "y_roll": ("m", "distance along y until then"), "vx_roll": ("m/s", "velocity along x when it rolls"),
+        "vy_roll": ("m/s", "velocity along y when it rolls"), "slip0": ("m/s", "initial slip speed")},
+    "cushion-impact": {
+        "chi1": ("m/s", "velocity along the cushion after"), "zeta1": ("m/s", "normal velocity after"),
+        "p1": ("rad/s", "side spin after"), "n1": ("rad/s", "rotation about the cushion's direction after")},
+    **{name: {
+        "v1": ("m/s", "velocity of the striking ball after (x, y, z)"),
+        "w1": ("rad/s", "rotation of the striking ball after (x, y, z)"),
+        "v1p": ("m/s", "velocity of the struck ball after (x, y, z)"),
+        "w1p": ("rad/s", "rotation of the struck ball after (x, y, z)"),
+        "omega1": ("m/s", "normal velocity lost by the striking ball, χ0 − χ1"),
+        "T": ("kg·m/s", "tangential impulse on the struck ball (y, z)"),
+        "converged": ("flag", "the §VI normal-impulse fixed point converged (true where there is none)"),
+    } for name in ("spheres-free", "spheres-cloth")},
+    "cue-stroke": {
+        "chi1": ("m/s", "velocity of the centre along Cx (the cue's vertical plane)"),
+        "eta1": ("m/s", "velocity of the centre along Cy"), "n1": ("rad/s", "rotation about Cx"),
+        "p1": ("rad/s", "rotation about Cy"), "q1": ("rad/s", "rotation about Cz (vertical)"),
+        "V1p": ("m/s", "speed of the cue after the stroke"), "omega1": ("m/s", "cue speed lost, eq. (6)"),
+        "omega": ("m/s", "cue speed lost at the greatest compression, eq. (12)"),
+        "A": ("1", "eq. (8): 1 + the ball's vis viva over M′ω1²"),
+        "gamma": ("degrees", "direction of the slip on the cloth, eq. (5) (not computed by the ode path: null)"),
+        "cos_phi": ("1", "cosine of the angle of the cue axis with the normal at the contact, eq. (11)")},
+}
+NOT_COMPUTED = {("cue-stroke", "ode", "gamma")}  # (model, path, output): the path does not compute it (NaN)
 
 
 def _param_info(p: paths.Param, vector: bool) -> dict[str, Any]:
@@ -47,7 +101,7 @@ def describe(m: paths.Model) -> dict[str, Any]:
         "parameters": [_param_info(p, p.name in m.vectors) for p in m.params],
         "paths": [{"name": p.name, "code": int(p.code), "kind": p.kind.value, "cost": p.cost,
                    "accuracy": p.accuracy, "handles": p.handles_text, "doc": p.doc} for p in m.paths],
-        "outputs": [o.partition("*")[0] for o in m.outputs],
+        "outputs": [{"name": n, "unit": u, "doc": d} for n, (u, d) in OUTPUTS[m.name].items()],
     }
 
 
@@ -135,17 +189,25 @@ def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[s
     inputs = {p.name: _plain(_cli(p, float(scene[p.name])) if p.name not in m.vectors else scene[p.name])
               for p in m.params}
     skip = {"method", "path", "regime", "label"}
-    outputs = {}
+    code, regime = int(np.ravel(res.path)[0]), int(np.ravel(res.regime)[0])
+    path_name = paths.PathCode(code).name.lower().replace("_", "-")
+    units = OUTPUTS[model]
+    outputs: dict[str, Any] = {}
     for name in res.__dataclass_fields__:
         if name in skip:
             continue
-        outputs[name] = _plain(getattr(res, name))
-    bad_out = [n for n, v in outputs.items() if not _finite(v)]
+        v = _plain(getattr(res, name))
+        if (model, path_name, name) in NOT_COMPUTED and isinstance(v, float) and math.isnan(v):
+            v = None
+        elif units[name][0] == "degrees":
+            v = degrees(v)
+        outputs[name] = v
+    bad_out = [n for n, v in outputs.items() if v is not None and not _finite(v)]
     if bad_out:
         raise InputError(given, f"the scene's outputs overflow ({', '.join(bad_out)} not finite): expected inputs "
                                 "whose products and squares stay within floating point (|x| ≲ 1e150 in SI units)")
-    code, regime = int(np.ravel(res.path)[0]), int(np.ravel(res.regime)[0])
-    return {"model": model, "method": res.method, "path": code,
-            "path_name": paths.PathCode(code).name.lower().replace("_", "-"),
+    return {"model": model, "method": res.method, "path": code, "path_name": path_name,
             "regime": regime, "regime_name": paths.Regime(regime).name.lower().replace("_", "-"),
-            "label": res.label, "inputs": inputs, "outputs": outputs}
+            "label": res.label, "inputs": inputs, "outputs": outputs,
+            "units": {"inputs": {p.name: "degrees" if p.cli_degrees else p.unit for p in m.params},
+                      "outputs": {n: units[n][0] for n in outputs}}}

@@ -56,23 +56,30 @@ _TEX_COLS = 8  # the LaTeX table leaves out the note
 
 
 def code_provenance() -> dict[str, Any]:
-    """Version, git commit (and whether the tree was dirty), Python, numpy and scipy versions."""
-    import numpy
-    import scipy
+    """Version, git commit (and whether the tree was dirty), Python, and the versions of the runtime dependencies
+    (pyproject.toml's, as installed: requirements.lock pins them), numpy's and scipy's also at the top level."""
+    from importlib import metadata
 
+    deps: dict[str, str | None] = {}
+    for name in ("numpy", "scipy", "matplotlib", "rich", "typer", "PyYAML"):
+        try:
+            deps[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            deps[name] = None
     root = Path(__file__).resolve().parent.parent
     commit, dirty = None, None
-    try:
-        commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True,
-                                timeout=5).stdout.strip() or None
-        if commit:
-            status = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=root,
-                                    capture_output=True, text=True, timeout=5).stdout
-            dirty = bool(status.strip())
-    except (OSError, subprocess.SubprocessError):
-        pass
+    if (root / ".git").exists():  # a checkout's own commit only: a wheel's site-packages may lie in another repo
+        try:
+            commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True,
+                                    timeout=5).stdout.strip() or None
+            if commit:
+                status = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=root,
+                                        capture_output=True, text=True, timeout=5).stdout
+                dirty = bool(status.strip())
+        except (OSError, subprocess.SubprocessError):
+            pass
     return {"version": __version__, "git_commit": commit, "dirty": dirty, "python": platform.python_version(),
-            "numpy": numpy.__version__, "scipy": scipy.__version__}
+            "numpy": deps["numpy"], "scipy": deps["scipy"], "dependencies": deps}
 
 
 def provenance(rep: Reproduction) -> dict[str, Any]:
@@ -80,7 +87,7 @@ def provenance(rep: Reproduction) -> dict[str, Any]:
     c = code_provenance()
     return {"version": c["version"], "git_commit": c["git_commit"], "dirty": c["dirty"], "config": rep.experiment.path,
             "config_sha256": rep.experiment.sha256, "python": c["python"], "numpy": c["numpy"], "scipy": c["scipy"],
-            "seed": rep.experiment.seed}
+            "dependencies": c["dependencies"], "seed": rep.experiment.seed}
 
 
 def _figure_files(rep: Reproduction) -> list[str]:

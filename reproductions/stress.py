@@ -356,6 +356,8 @@ def _boundaries(row: _Row, m: paths.Model, s: dict, r: Any, path: str, rng: np.r
     if path != "auto":
         ok &= np.asarray(m.path(path).handles(sb_all), dtype=bool)
     idx = np.nonzero(ok)[0]
+    if idx.size == 0:  # no partner scene the model admits (a batch of one or two): no boundary to look for
+        return
     rb, _, _ = _solve(m, _take(m, sb_all, idx), path)
     if rb is None:
         return

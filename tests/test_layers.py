@@ -8,7 +8,8 @@ ROOT = Path(__file__).resolve().parent.parent
 LAYERS = {
     "reproductions.errors": 0, "reproductions.mechanics": 1, "reproductions.config": 2, "reproductions.series": 2,
     "reproductions.fit": 0,  # the package's __init__ only: a docstring, no imports
-    "reproductions.fit.estimators": 2, "reproductions.fit.kinds": 5, "reproductions.fit.checks": 5,
+    "reproductions.fit.estimators": 2, "reproductions.fit.options": 2, "reproductions.fit.kinds": 5,
+    "reproductions.fit.checks": 5,
     "reproductions.fit.run": 5, "reproductions.fit.report": 6,
     "reproductions.results": 3, "reproductions.experiments": 4, "reproductions.api": 5,
     "reproductions.report": 5, "reproductions.edition_model": 3, "reproductions.edition": 6,

@@ -103,9 +103,12 @@ def test_simulate_direct_impact_json():
 
 
 def test_simulate_list_names_models_and_parameters():
+    import re
+
     res = runner.invoke(app, ["simulate", "--list"])
     assert res.exit_code == 0
-    assert "direct-impact" in res.stdout and "wall-impact" in res.stdout and "epsp*" in res.stdout
+    assert "direct-impact" in res.stdout and "wall-impact" in res.stdout
+    assert re.search(r"^\s+epsp\s+1\s+\[0, 1\]\s+required\s", res.stdout, re.M)  # unit, range, no default
 
 
 def test_simulate_list_json_gives_every_model_its_paths_and_units():

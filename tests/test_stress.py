@@ -177,3 +177,21 @@ def test_the_command_writes_its_report_and_refuses_bad_counts(tmp_path):
         bad = CliRunner().invoke(app, ["stress", *args, "--out", str(tmp_path / "other")])
         assert bad.exit_code == 2 and where in bad.stderr, (args, bad.output)
     assert not (tmp_path / "other").exists()
+
+
+@pytest.mark.parametrize("scenes", [1, 2])
+def test_the_smallest_runs_finish(tmp_path, scenes):
+    """A batch of one or two scenes leaves the boundary search no partner the model admits (an empty batch):
+    it used to stop with an IndexError from paths.solve."""
+    result = CliRunner().invoke(app, ["stress", "--scenes", str(scenes), "--ode-scenes", "1", "--out",
+                                      str(tmp_path / "out")])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "out" / "stress.json").is_file()
+
+
+@pytest.mark.parametrize("name", sorted(registry.MODELS))
+def test_auto_solves_an_empty_batch(name):
+    m = registry.MODELS[name]
+    r = paths.solve(m, m.scene(m.sample(np.random.default_rng(0), 0)), "auto")
+    outputs = [v for f in dataclasses.fields(r) if isinstance(v := getattr(r, f.name), np.ndarray) and v.ndim >= 1]
+    assert outputs and all(v.shape[0] == 0 for v in outputs)

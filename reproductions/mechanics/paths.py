@@ -244,6 +244,9 @@ def solve(model: Model, scene: Scene, method: str = "auto") -> Any:
             todo &= ~sel
     if todo.any():  # cannot happen when some path is exact everywhere (every model has its ODE path)
         raise PathError(f"{model.name}: no path declares itself exact for {int(todo.sum())} scene(s)")
+    if not parts:  # an empty batch: the cheapest path's result of no scene (its arrays of length 0)
+        cheapest = min(model.paths, key=lambda q: q.cost)
+        return _merge([(todo, cheapest.run(_take(model, flat, todo)))], n, batch)
     return _merge(parts, n, batch)
 
 
