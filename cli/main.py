@@ -132,9 +132,9 @@ def _print_rows(title: str, headers: tuple[str, ...], rows: list[tuple[list[str]
 
 def _experiment_record(by: dict[str, str]) -> list[tuple[str, str]]:
     """An experiment's row as a record: where it is printed (section, line), the printed value, the computed one
-    with its relative difference and the reason it differs, the note."""
+    with its difference and the reason it differs, the note."""
     where = by["§ / eq."] + (f", line {by['line']}" if by["line"] not in ("", "—") else "")
-    more = [f"{label}{by[h]}" for h, label in (("rel. diff", "rel. diff "), ("reason", "reason: "))
+    more = [f"{label}{by[h]}" for h, label in (("difference", "difference "), ("reason", "reason: "))
             if by[h] not in ("", "—")]
     computed = by["computed"] + (f" ({'; '.join(more)})" if more else "")
     return [(label, text) for label, text in (("where", where), ("printed", by["printed"]), ("computed", computed),
@@ -211,6 +211,12 @@ def _load_experiments(experiments: list[str] | None, all_: bool, out: Path) -> l
         names += [i for i in api.experiment_ids() if i not in names]
     if not names:
         raise InputError("arguments", "name an experiment id, a YAML path, or use --all")
+    from reproductions.config import MAX_YAML_BYTES, read_input
+
+    for n in names:  # a folder, a FIFO or a device named in place of a YAML file: said so, never opened blocking
+        p = Path(n)
+        if p.exists() and not p.is_file() and (p.suffix in (".yaml", ".yml") or n not in api.experiment_ids()):
+            read_input(p, "an experiment file (YAML)", MAX_YAML_BYTES)
     exps = [api.load(n) for n in names]
     seen: dict[str, str] = {}
     for n, e in zip(names, exps, strict=True):
@@ -279,18 +285,20 @@ def reproduce(
                 try:
                     scratch = report.make_staging(out, "figures")
                     reps = api.run_and_draw(exps, jobs, scratch, status.update)
-                    for r in reps:
-                        api.checkpoint()
-                        folders.append(report.write_reproduction(r, out, drawn=scratch / r.experiment.id))
+                    with report.locked(out):  # another run into the same folder writes before or after, whole
+                        for r in reps:
+                            api.checkpoint()
+                            folders.append(report.write_reproduction(r, out, drawn=scratch / r.experiment.id))
+                        summaries = [json.loads((f / "summary.json").read_text(encoding="utf-8")) for f in folders]
+                        edition.write_index(out)
                 finally:
                     if scratch is not None:
                         shutil.rmtree(scratch, ignore_errors=True)
-                summaries = [json.loads((f / "summary.json").read_text(encoding="utf-8")) for f in folders]
-                edition.write_index(out)
     except InputError as err:
         _fail(err)
-    except OSError as err:
-        _fail(InputError(f"--out {out}", f"cannot write results ({err.strerror or err})"))
+    except OSError as err:  # the environment (a full disk, a file-size limit, a folder gone): exit status 1
+        _fail(ComputationError(f"--out {out}", f"cannot write results ({err.strerror or err}); the experiment "
+                                               "folders not yet replaced are as they were"))
     except Interrupted as exc:
         done = (f"{out}: {len(folders)} experiment folder(s) replaced whole, nothing else changed" if folders
                 else f"{out} left as it was")
@@ -617,8 +625,8 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
         _fail(err)
     except (ArithmeticError, ValueError) as err:
         _fail(ComputationError(str(csv_file), f"the fit failed: {err}"))
-    except OSError as err:
-        _fail(InputError(f"--out {out}", f"cannot write the output folder ({err.strerror or err})"))
+    except OSError as err:  # the environment (a full disk, a file-size limit): exit status 1, the folder as it was
+        _fail(ComputationError(f"--out {out}", f"cannot write the output folder ({err.strerror or err})"))
     if as_json:
         typer.echo(_json(outcome.summary))
     else:
@@ -823,19 +831,9 @@ def stress(
 
 
 def _read_summary(path: Path) -> dict[str, Any]:
-    f = path / "summary.json" if path.is_dir() else path
-    try:
-        obj = json.loads(f.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(str(f), f"cannot read ({exc.strerror})") from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(str(f), f"not a summary.json file ({exc})") from None
-    from reproductions.golden import summary_problem
+    from reproductions.golden import read_summary
 
-    problem = summary_problem(obj)
-    if problem:
-        raise InputError(str(f), f"not a summary.json file: {problem}")
-    return obj
+    return read_summary(path / "summary.json" if path.is_dir() else path)
 
 
 def _diff_side(path: Path) -> tuple[str, Path]:

@@ -72,8 +72,10 @@ def experiment_ids() -> list[str]:
 def load(name_or_path: str) -> Experiment:
     """An experiment by id (``configs/<id>.yaml``) or by the path of a YAML file."""
     p = Path(name_or_path)
-    if p.suffix in (".yaml", ".yml") or p.is_file():
-        if not p.is_file():
+    # a path: a YAML name, or anything there but a folder (a folder named like an id, results/marble-drop, is
+    # not taken for a file); the reader says what a FIFO, a device or a folder named *.yaml is
+    if p.suffix in (".yaml", ".yml") or (p.exists() and not p.is_dir()):
+        if not (p.exists() or p.is_symlink()):
             raise InputError(name_or_path, "no such experiment file")
         return load_experiment(p, KINDS)
     ids = experiment_ids()
@@ -115,8 +117,10 @@ def interruptible() -> Iterator[None]:
             return
         if _RECEIVED["signum"] is None:
             _RECEIVED["signum"] = signum
-            if not _FORKING[0]:  # inside an at-fork hook the exception would be printed and dropped
-                raise Interrupted(signum)  # (there the next ``checkpoint`` raises it)
+            # inside an at-fork hook, a weakref callback, a finaliser or the garbage collector the exception would
+            # be printed ("Exception ignored in …", a traceback) and dropped: there the next ``checkpoint`` raises
+            if not _FORKING[0] and not _in_callback(frame):
+                raise Interrupted(signum)
 
     # a signal ignored from the start (SIGINT of a background job, `nohup`-like wrappers) stays ignored
     sigs = [s for s in (signal.SIGINT, signal.SIGTERM) if signal.getsignal(s) is not signal.SIG_IGN]
@@ -128,6 +132,18 @@ def interruptible() -> Iterator[None]:
         for s, h in previous.items():
             signal.signal(s, h)
         _RECEIVED["signum"] = None
+
+
+def _in_callback(frame: Any) -> bool:
+    """Whether ``frame`` runs inside code whose exceptions Python prints and drops instead of propagating: a
+    weakref callback (``weakref.py``'s ``remove``, seen under SIGTERM in tests/test_hostile_environment.py), a
+    ``__del__`` finaliser, a ``weakref.finalize``."""
+    while frame is not None:
+        code = frame.f_code
+        if code.co_name == "__del__" or code.co_filename.endswith(("weakref.py", "_weakrefset.py")):
+            return True
+        frame = frame.f_back
+    return False
 
 
 _RECEIVED: dict[str, int | None] = {"signum": None}  # the signal ``interruptible`` received, if any

@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import hashlib
 import math
+import os
 import re
+import stat
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -23,7 +25,94 @@ import yaml
 
 from .errors import InputError
 
-__all__ = ["Experiment", "Kind", "Node", "Printed", "Source", "load_experiment", "parse_number"]
+__all__ = ["MAX_DEPTH", "MAX_LINE", "MAX_NODES", "MAX_YAML_BYTES", "Experiment", "Kind", "Node", "Printed", "Source",
+           "decode_text", "load_experiment", "parse_number", "read_input", "shorten"]
+
+# Limits on what a reader takes in, checked before any parsing (configs/README.md, "File limits"): the largest
+# experiment file is 25 kB, its longest line 237 characters, its deepest nesting 6 levels.
+MAX_YAML_BYTES = 1 << 20  # 1 MiB
+MAX_LINE = 10_000  # characters in one line of a YAML or CSV file
+MAX_DEPTH = 32  # nested mappings and lists in a YAML or JSON document
+MAX_NODES = 100_000  # values of a YAML document, every alias counted as the whole value it stands for
+_FILE_TYPES = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISCHR, "a device"),
+               (stat.S_ISBLK, "a device"), (stat.S_ISSOCK, "a socket"))
+
+
+def read_input(path: str | os.PathLike[str], what: str, limit: int, unreadable: str | None = None) -> bytes:
+    """The bytes of the regular file ``path``, read once, at most ``limit`` of them. A folder, a FIFO, a device
+    (``/dev/zero``) or a socket is refused by the type of the opened file (opened without blocking, so a FIFO
+    cannot hang the reader), a larger file by its size, before anything is parsed. ``unreadable`` starts the
+    message when the file cannot be opened or read (default: "cannot read <what>")."""
+    where = str(path)
+    unreadable = unreadable or f"cannot read {what}"
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    except IsADirectoryError:
+        raise InputError(where, f"is a folder: expected {what}") from None
+    except OSError as exc:
+        try:  # a socket cannot be opened at all: say what it is
+            mode = os.stat(path).st_mode
+        except OSError:
+            mode = stat.S_IFREG
+        kind = next((name for test, name in _FILE_TYPES if test(mode)), None)
+        if kind is not None:
+            raise InputError(where, f"is {kind}: expected {what}, a regular file") from None
+        raise InputError(where, f"{unreadable} ({exc.strerror or exc})") from None
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            kind = next((name for test, name in _FILE_TYPES if test(st.st_mode)), "not a regular file")
+            raise InputError(where, f"is {kind}: expected {what}, a regular file")
+        if st.st_size > limit:
+            raise InputError(where, f"is {st.st_size:,} bytes: expected {what} of at most {limit:,} bytes")
+        os.set_blocking(fd, True)
+        chunks, size = [], 0
+        while size <= limit:
+            chunk = os.read(fd, min(1 << 20, limit + 1 - size))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+        if size > limit:  # it grew while being read
+            raise InputError(where, f"is more than {limit:,} bytes: expected {what} of at most {limit:,} bytes")
+        return b"".join(chunks)
+    except OSError as exc:
+        raise InputError(where, f"{unreadable} ({exc.strerror or exc})") from None
+    finally:
+        os.close(fd)
+
+
+def decode_text(data: bytes, where: str, what: str, max_line: int | None = MAX_LINE) -> str:
+    """UTF-8 text (a leading byte-order mark dropped) without NUL bytes and, with ``max_line``, without a line
+    longer than that; every other encoding (UTF-16, with or without its mark, Latin-1 …) is named and refused."""
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise InputError(where, f"not a UTF-8 text file: UTF-16 (it starts with a UTF-16 byte-order mark); "
+                                f"expected {what} in UTF-8 (save it as UTF-8)")
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    nul = data.find(b"\0")
+    if nul >= 0:
+        head = data[:64]
+        if len(head) >= 4 and (head[1::2].count(0) >= len(head) // 4 or head[0::2].count(0) >= len(head) // 4):
+            raise InputError(where, f"not a UTF-8 text file: UTF-16 without a byte-order mark (every other byte "
+                                    f"is 0); expected {what} in UTF-8 (save it as UTF-8)")
+        line = data.count(b"\n", 0, nul) + 1
+        raise InputError(f"{where}:{line}", f"not a UTF-8 text file: a NUL byte (byte {nul + 1} of the file); "
+                                            f"expected {what}, UTF-8 text (a binary file?)")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        byte = data[exc.start]
+        raise InputError(f"{where}:{line}", f"not a UTF-8 text file: byte 0x{byte:02X} (byte {exc.start + 1} of "
+                                            f"the file) is not UTF-8; expected {what} in UTF-8 (Latin-1 or "
+                                            "Windows-1252? save it as UTF-8)") from None
+    if max_line is not None:
+        for i, ln in enumerate(text.split("\n")):
+            if len(ln) > max_line:
+                raise InputError(f"{where}:{i + 1}", f"a line of {len(ln):,} characters: expected {what} with "
+                                                     f"lines of at most {max_line:,} characters")
+    return text
 
 _FRACTION = re.compile(r"^\s*([+-]?\d+)\s*/\s*(\d+)\s*$")
 
@@ -32,19 +121,19 @@ def parse_number(text: Any) -> tuple[float, bool] | None:
     """A float from a YAML scalar or string; also ``"7/12"`` fractions. Returns (value, exact) or None."""
     if isinstance(text, bool) or text is None:
         return None
-    if isinstance(text, int):
-        return float(text), True
-    if isinstance(text, float):
-        return text, False
-    if isinstance(text, str):
-        m = _FRACTION.match(text)
-        if m:
-            den = int(m.group(2))
-            return (float(Fraction(int(m.group(1)), den)), True) if den else None
-        try:
+    try:  # an integer beyond a float (10**400), or of more digits than Python converts, is no number here
+        if isinstance(text, int):
+            return float(text), True
+        if isinstance(text, float):
+            return text, False
+        if isinstance(text, str):
+            m = _FRACTION.match(text)
+            if m:
+                den = int(m.group(2))
+                return (float(Fraction(int(m.group(1)), den)), True) if den else None
             return float(text.strip().replace(",", ".")), False
-        except ValueError:
-            return None
+    except (ValueError, OverflowError):
+        return None
     return None
 
 
@@ -127,7 +216,7 @@ class Node:
         n = self._scalar(key, expected)
         value = n.value
         if choices is not None and value not in choices:
-            raise self.fail(f"'{self._name(key)}' must be {expected}, got '{value}'", n)
+            raise self.fail(f"'{self._name(key)}' must be {expected}, got '{shorten(value)}'", n)
         if not value.strip():
             raise self.fail(f"'{self._name(key)}' must be a non-empty text", n)
         return value
@@ -138,7 +227,7 @@ class Node:
         value = _construct(n, self.file, self._name(key))
         parsed = parse_number(value)
         if parsed is None or not math.isfinite(parsed[0]):
-            raise self.fail(f"'{self._name(key)}' must be {what}, got '{n.value}'", n)
+            raise self.fail(f"'{self._name(key)}' must be {what}, got '{shorten(n.value)}'", n)
         return parsed[0], parsed[1], n.value, n
 
     def number(
@@ -155,7 +244,7 @@ class Node:
             hi_s = "" if hi is None else f"{hi:g}" + (")" if hi_open else "]")
             rng = f"in {lo_s}, {hi_s}" if lo is not None and hi is not None else (
                 f"{'>' if lo_open else '≥'} {lo:g}" if lo is not None else f"{'<' if hi_open else '≤'} {hi:g}")
-            raise self.fail(f"'{self._name(key)}' must be {what} {rng}, got {raw}", n)
+            raise self.fail(f"'{self._name(key)}' must be {what} {rng}, got {shorten(raw)}", n)
         return value
 
     def integer(self, key: str, what: str = "an integer", *, default: int | None = None, lo: int = 0,
@@ -170,10 +259,11 @@ class Node:
         if not isinstance(value, int) or isinstance(value, bool):
             parsed = parse_number(value) if isinstance(value, str | float) else None
             if parsed is None or not math.isfinite(parsed[0]) or parsed[0] != int(parsed[0]):
-                raise self.fail(f"'{self._name(key)}' must be {what}, a whole number {rng}, got '{n.value}'", n)
+                raise self.fail(f"'{self._name(key)}' must be {what}, a whole number {rng}, "
+                                f"got '{shorten(n.value)}'", n)
             value = int(parsed[0])
         if value < lo or (hi is not None and value > hi):
-            raise self.fail(f"'{self._name(key)}' must be {what} {rng}, got {n.value}", n)
+            raise self.fail(f"'{self._name(key)}' must be {what} {rng}, got {shorten(n.value)}", n)
         return value
 
     def boolean(self, key: str, default: bool) -> bool:
@@ -182,7 +272,7 @@ class Node:
         n = self._scalar(key, "true or false")
         value = _construct(n, self.file, self._name(key))
         if not isinstance(value, bool):
-            raise self.fail(f"'{self._name(key)}' must be true or false, got '{n.value}'", n)
+            raise self.fail(f"'{self._name(key)}' must be true or false, got '{shorten(n.value)}'", n)
         return value
 
     def number_list(self, key: str, what: str = "numbers") -> tuple[float, ...]:
@@ -194,8 +284,8 @@ class Node:
             value = _construct(item, self.file, self._name(key)) if isinstance(item, yaml.ScalarNode) else None
             parsed = parse_number(value)
             if parsed is None or not math.isfinite(parsed[0]):
-                raise self.fail(f"'{self._name(key)}' must be a list of {what}, got '{getattr(item, 'value', '')}'",
-                                item)
+                raise self.fail(f"'{self._name(key)}' must be a list of {what}, "
+                                f"got '{shorten(getattr(item, 'value', ''))}'", item)
             out.append(parsed[0])
         return tuple(out)
 
@@ -214,9 +304,22 @@ def _construct(n: yaml.ScalarNode, file: str, name: str) -> Any:
         return yaml.SafeLoader("").construct_object(n, deep=True)
     except (yaml.YAMLError, ValueError, TypeError, OverflowError) as exc:
         why = exc.problem if isinstance(exc, yaml.MarkedYAMLError) and exc.problem else str(exc)
+        if "integer string conversion" in why:  # Python reads at most 4300 digits (sys.get_int_max_str_digits)
+            digits = sum(c.isdigit() for c in n.value)
+            why = f"an integer of {digits:,} digits, expected a number of at most {_MAX_DIGITS:,} digits"
         tag = "" if n.tag.startswith("tag:yaml.org,2002:") else f" {n.tag}"
         raise InputError(f"{file}:{n.start_mark.line + 1}",
-                         f"'{name}' cannot be read from '{tag.strip()}{' ' if tag else ''}{n.value}': {why}") from None
+                         f"'{name}' cannot be read from '{tag.strip()}{' ' if tag else ''}{shorten(n.value)}': "
+                         f"{why}") from None
+
+
+_MAX_DIGITS = 4300  # Python's default limit on the digits of an integer read from text
+
+
+def shorten(value: Any, width: int = 40) -> str:
+    """A value as a message quotes it: whole when short, else its start and its length."""
+    text = str(value)
+    return text if len(text) <= width else f"{text[:width - 10]}… ({len(text):,} characters)"
 
 
 @dataclass(frozen=True)
@@ -369,30 +472,62 @@ class Kind(Protocol):
     def parse(self, node: Node, base: Path) -> Any: ...
 
 
+def _check_structure(text: str, file: str) -> None:
+    """Refuse a document nested deeper than ``MAX_DEPTH`` or holding more than ``MAX_NODES`` values once its aliases
+    are expanded (a "billion laughs" of nested aliases is a few lines long), reading the parser's events: the
+    parser keeps no recursion, and an alias is counted by the size of its anchor, not expanded."""
+    sizes: dict[str, int] = {}
+    stack: list[tuple[str | None, int]] = []
+    total = 0
+    for ev in yaml.parse(text, Loader=yaml.SafeLoader):
+        if isinstance(ev, yaml.AliasEvent):
+            total += sizes.get(ev.anchor, 1)
+        elif isinstance(ev, yaml.ScalarEvent):
+            total += 1
+            if ev.anchor:
+                sizes[ev.anchor] = 1
+        elif isinstance(ev, yaml.CollectionStartEvent):
+            total += 1
+            stack.append((ev.anchor, total))
+            if len(stack) > MAX_DEPTH:
+                raise InputError(f"{file}:{ev.start_mark.line + 1}", f"nested more than {MAX_DEPTH} levels deep: "
+                                                                     f"expected an experiment file of at most "
+                                                                     f"{MAX_DEPTH} levels of mappings and lists")
+        elif isinstance(ev, yaml.CollectionEndEvent) and stack:
+            anchor, start = stack.pop()
+            if anchor:
+                sizes[anchor] = total - start + 1
+        if total > MAX_NODES:
+            raise InputError(f"{file}:{ev.start_mark.line + 1}", f"more than {MAX_NODES:,} values once its aliases "
+                                                                 "are expanded (an alias bomb?): expected an "
+                                                                 "experiment file of plain values")
+
+
 def load_experiment(path: str | Path, kinds: Mapping[str, Any]) -> Experiment:
     """Read and validate one experiment file of one of ``kinds`` (name → ``Kind``); raises ``InputError`` naming
     file:line on any problem. The kinds are handed in, so that configuration never imports the experiments."""
     KINDS = kinds
     p = Path(path)
     file = str(path)
+    raw = read_input(p, "an experiment file (YAML)", MAX_YAML_BYTES, "cannot read the experiment file")
+    text = decode_text(raw, file, "an experiment file (YAML)")
     try:
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise InputError(file, f"cannot read the experiment file ({exc.strerror})") from None
-    try:
-        text = raw.decode("utf-8")
+        _check_structure(text, file)  # depth and aliases, on the parser's events: before the (recursive) composer
         doc = yaml.compose(text, Loader=yaml.SafeLoader)
-    except UnicodeDecodeError:
-        raise InputError(file, "not a UTF-8 text file") from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark else 1
         message = f"malformed YAML: {exc.problem or exc.context}"
         if exc.problem and exc.context and exc.context_mark and exc.context_mark.line + 1 != line:
             message += f" ({exc.context} started at line {exc.context_mark.line + 1})"
+        lines = text.split("\n")
+        if "expected ':'" in message and line <= len(lines) and len(lines[line - 1]) > 1024:
+            message += " (expected a key of at most 1024 characters)"  # YAML's bound on a plain key
         raise InputError(f"{file}:{line}", message) from None
     except yaml.YAMLError as exc:
         raise InputError(file, f"malformed YAML: {exc}") from None
+    except RecursionError:  # not reached within MAX_DEPTH; kept so that no document ends in a traceback
+        raise InputError(file, f"nested too deeply: expected at most {MAX_DEPTH} levels") from None
     if doc is None:
         raise InputError(f"{file}:1", "empty file (expected an experiment: id, kind, title, source, params, printed)")
     root = Node(file, doc)

@@ -17,8 +17,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
-__all__ = ["GOLDEN_DIR", "SUMMARY_FIELDS", "TOLERANCES", "check_all", "compare", "flatten", "golden_object",
-           "summary_problem"]
+__all__ = ["GOLDEN_DIR", "MAX_SUMMARY_BYTES", "SUMMARY_FIELDS", "TOLERANCES", "check_all", "compare", "flatten",
+           "golden_object", "read_summary", "summary_problem"]
 
 GOLDEN_DIR = Path(__file__).resolve().parent.parent / "tests" / "golden"
 
@@ -91,6 +91,47 @@ SUMMARY_FIELDS: dict[str, tuple[str, ...]] = {
     "tables": ("name", "rows"),
     "modern": ("symbol", "resal"),
 }
+
+
+MAX_SUMMARY_BYTES = 16 << 20  # 16 MiB: the largest summary.json resal writes is 60 kB
+
+
+def read_summary(path: Path) -> dict[str, Any]:
+    """A summary.json read for ``resal diff``: a regular UTF-8 file of at most ``MAX_SUMMARY_BYTES``, JSON nested at
+    most ``config.MAX_DEPTH`` levels, with everything ``flatten`` reads; anything else is an ``InputError`` naming
+    the file (a folder, a FIFO, ``/dev/zero``, UTF-16, a NUL byte, an integer of thousands of digits …)."""
+    from .config import MAX_DEPTH, decode_text, read_input
+    from .errors import InputError
+
+    where = str(path)
+    text = decode_text(read_input(path, "a summary.json file", MAX_SUMMARY_BYTES), where, "a summary.json file",
+                       max_line=None)
+    try:
+        obj = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{where}:{exc.lineno}", f"not a summary.json file ({exc.msg}, column {exc.colno})") from None
+    except RecursionError:
+        raise InputError(where, f"not a summary.json file: nested too deeply (expected at most {MAX_DEPTH} "
+                                "levels)") from None
+    except ValueError:  # an integer beyond Python's limit on digits (4300)
+        raise InputError(where, "not a summary.json file: an integer of more than 4300 digits (expected the "
+                                "numbers resal writes)") from None
+    problem = _depth_problem(obj, MAX_DEPTH) or summary_problem(obj)
+    if problem:
+        raise InputError(where, f"not a summary.json file: {problem}")
+    return obj
+
+
+def _depth_problem(obj: Any, limit: int) -> str | None:
+    """Arrays and objects nested deeper than ``limit`` (walked without recursion, so any depth is safe)."""
+    todo = [(obj, 1)]
+    while todo:
+        o, d = todo.pop()
+        if isinstance(o, dict | list):
+            if d > limit:
+                return f"nested more than {limit} levels deep (a summary nests 6)"
+            todo.extend((v, d + 1) for v in (o.values() if isinstance(o, dict) else o))
+    return None
 
 
 def summary_problem(s: Any) -> str | None:

@@ -11,6 +11,7 @@ stamps or software versions.
 from __future__ import annotations
 
 import csv
+import errno
 import hashlib
 import io
 import json
@@ -51,7 +52,7 @@ __all__ = [
     "write_reproduction",
 ]
 
-HEADERS = ("quantity", "§ / eq.", "line", "printed", "computed", "rel. diff", "verdict", "reason", "note")
+HEADERS = ("quantity", "§ / eq.", "line", "printed", "computed", "difference", "verdict", "reason", "note")
 _TEX_COLS = 8  # the LaTeX table leaves out the note
 
 
@@ -136,8 +137,10 @@ def _rel(v: float | None) -> str:
 
 
 def row_cells(r: dict[str, Any]) -> list[str]:
-    return [r["quantity"], r["source"], _fmt(r.get("line")), f"{r['printed_text']}", _fmt(r["computed"]),
-            _rel(r["rel_diff"]), r["verdict"], r.get("reason") or "", r["note"]]
+    """A row's cells for people (HEADERS): a formula's computed number named a discrepancy, the difference relative,
+    or absolute where the paper prints zero (``computed_text``, ``difference_text``)."""
+    return [r["quantity"], r["source"], _fmt(r.get("line")), f"{r['printed_text']}", computed_text(r),
+            difference_text(r), r["verdict"], r.get("reason") or "", r["note"]]
 
 
 def _fit_cells(f: dict[str, Any]) -> list[str]:
@@ -532,6 +535,27 @@ def write_reproduction(rep: Reproduction, out: Path, prov: dict[str, Any] | None
     return write_folder(out / rep.experiment.id, files, rep.figures, drawn)
 
 
+_SWAP_ATTEMPTS = 20  # renames tried when another run swaps the same folder at the same moment
+
+
+@contextmanager
+def locked(out: Path) -> Iterator[None]:
+    """An exclusive lock on the folder ``out`` itself (``flock``: no lock file is left, and a killed holder's lock
+    goes with its process) while a run writes into it: two runs into one folder write one after the other, and
+    the folder ends as one whole result, the later run's."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX: the renames alone keep each folder whole
+        yield
+        return
+    fd = os.open(out, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)
+
+
 def write_folder(final: Path, files: dict[str, str], figures: Sequence[FigureSpec] = (),
                  drawn: Path | None = None) -> Path:
     """Write the folder ``final`` whole: ``files`` (name → text) and ``figures`` (drawn here, or moved from
@@ -553,16 +577,27 @@ def write_folder(final: Path, files: dict[str, str], figures: Sequence[FigureSpe
                 for ext in ("png", "pdf"):
                     os.replace(drawn / f"{spec.name}.{ext}", stage / f"{spec.name}.{ext}")
         with _signals_deferred():  # both renames or neither: never a missing folder
-            if final.exists():
-                old = out / staging_name(f"{name}.old")
-                os.replace(final, old)
-            try:
-                os.replace(stage, final)
-            except BaseException:
-                if old is not None:
-                    os.replace(old, final)
-                    old = None
-                raise
+            for attempt in range(_SWAP_ATTEMPTS):
+                if final.exists():
+                    old = out / staging_name(f"{name}.old")
+                    try:
+                        os.replace(final, old)
+                    except FileNotFoundError:  # another run (not holding ``locked``) moved it away: again
+                        old = None
+                        continue
+                try:
+                    os.replace(stage, final)
+                    break
+                except BaseException as exc:
+                    if old is not None:
+                        try:
+                            os.replace(old, final)
+                        except OSError:  # another run's whole folder is there now: ours was the older one
+                            shutil.rmtree(old, ignore_errors=True)
+                        old = None
+                    busy = isinstance(exc, OSError) and exc.errno in (errno.ENOTEMPTY, errno.EEXIST)
+                    if not busy or attempt == _SWAP_ATTEMPTS - 1:
+                        raise
         if old is not None:
             shutil.rmtree(old, ignore_errors=True)
     except BaseException:
@@ -579,7 +614,12 @@ def _summaries(out: Path) -> list[tuple[str, dict[str, Any]]]:
     for d in sorted(p for p in out.iterdir() if p.is_dir() and not p.name.startswith(".")):
         f = d / "summary.json"
         if f.is_file():
-            found.append((d.name, json.loads(f.read_text(encoding="utf-8"))))
+            try:
+                found.append((d.name, json.loads(f.read_text(encoding="utf-8"))))
+            except (OSError, ValueError) as exc:  # not written by resal (runs write it whole, then rename)
+                raise InputError(str(f), f"cannot read this summary of the results folder ({exc}): expected a "
+                                         "summary.json written by resal (remove its folder, or name another "
+                                         "--out)") from None
     return sorted(found, key=lambda x: (x[1]["source"].get("page") or 0, x[1]["experiment"]))
 
 

@@ -9,11 +9,13 @@ from pathlib import Path
 
 import numpy as np
 
+from .config import decode_text, read_input, shorten
 from .errors import InputError
 
 __all__ = ["MAX_IMPRINTS", "MIN_IMPRINTS", "UNITS", "Series", "check_imprints", "check_pendulum_trials",
            "header_names", "read_imprints", "read_rebounds", "read_series", "si_unit", "unit_label"]
 
+MAX_CSV_BYTES = 4 << 20  # 4 MiB: a series of 10⁵ rows; a larger file is refused before it is parsed
 MIN_IMPRINTS = 5  # a ricochet series: fewer imprints cannot tell ν from the launch
 MAX_IMPRINTS = 100  # Rozé counted up to 12; after 100 impacts at ν ≤ 0.8 a flight is 1e-10 of the first
 MAX_SPAN = 20.0  # m: the longest ricochet series taken as metres (a ball thrown onto a slab, not a field)
@@ -99,12 +101,7 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
     In the columns named in ``blank`` an empty cell means "not measured" and is read as NaN (never 0); in the
     others it is refused like any cell that is not a number."""
     where = str(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as exc:
-        raise InputError(where, f"cannot read the series file ({exc.strerror})") from None
-    except UnicodeDecodeError:
-        raise InputError(where, "not a UTF-8 text file") from None
+    text = read_text(path)
     numbered = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.startswith("#")]
     if not numbered:
         raise InputError(where, f"empty series (expected a header with columns {', '.join(columns)})")
@@ -131,6 +128,7 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
             raise InputError(f"{where}:{line_no}", f"expected {len(header)} values, got {len(cells)}")
         for j, (h, w, cell) in enumerate(zip(header, written, cells, strict=True)):
             col = f"column '{w}' (#{j + 1})" if len(header) > 1 else f"column '{w}'"
+            shown = shorten(cell)  # a cell of a thousand digits is quoted by its start and its length
             if not cell and h in blank:
                 data[h].append(math.nan)
                 continue
@@ -138,17 +136,17 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
                 v = float(cell)
             except ValueError:
                 empty = " or an empty cell (not measured)" if h in blank else ""
-                raise InputError(f"{where}:{line_no}", f"{col}: expected a number{empty}, got '{cell}'") from None
+                raise InputError(f"{where}:{line_no}", f"{col}: expected a number{empty}, got '{shown}'") from None
             if not math.isfinite(v):
-                raise InputError(f"{where}:{line_no}", f"{col}: expected a finite number, got '{cell}'")
+                raise InputError(f"{where}:{line_no}", f"{col}: expected a finite number, got '{shown}'")
             if v != 0 and not MIN_MAGNITUDE <= abs(v) <= MAX_MAGNITUDE:
-                raise InputError(f"{where}:{line_no}", f"{col}: {cell} is no measurement in any unit: expected a "
+                raise InputError(f"{where}:{line_no}", f"{col}: {shown} is no measurement in any unit: expected a "
                                                        f"magnitude between {MIN_MAGNITUDE:g} and {MAX_MAGNITUDE:g} "
                                                        "(or 0)")
             if h in positive and v <= 0:
-                raise InputError(f"{where}:{line_no}", f"{col}: expected a positive number, got '{cell}'")
+                raise InputError(f"{where}:{line_no}", f"{col}: expected a positive number, got '{shown}'")
             if h in nonnegative and v < 0:
-                raise InputError(f"{where}:{line_no}", f"{col}: expected a number ≥ 0, got '{cell}'")
+                raise InputError(f"{where}:{line_no}", f"{col}: expected a number ≥ 0, got '{shown}'")
             data[h].append(v * _factor(dims, h, units[h]))
     if len(numbered) - 1 < min_rows:
         raise InputError(where, f"expected at least {min_rows} data row(s), got {len(numbered) - 1}")
@@ -161,14 +159,21 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
     return out
 
 
+def read_text(path: Path) -> str:
+    """A series file's text: a regular file of at most ``MAX_CSV_BYTES``, UTF-8 (a byte-order mark dropped), no NUL
+    byte, no line longer than ``config.MAX_LINE``; anything else is refused with the file (and line) named."""
+    data = read_input(path, "a CSV file", MAX_CSV_BYTES, "cannot read the series file")
+    return decode_text(data, str(path), "a CSV file")
+
+
 def header_names(path: Path, known: Collection[str] = ()) -> tuple[int, set[str]]:
     """The header's line and its column names without their units (``V0_mps`` → ``V0``, ``obj_dir_deg`` →
     ``obj_dir``; ``cue_speed`` kept: a suffix is a known unit, or follows a ``known`` column name, so that
     ``V0_furlong`` is V0 with a unit ``read_series`` then refuses), to tell which set of columns a file holds;
     (0, ∅) when the file cannot be read (``read_series`` then says why)."""
     try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError):
+        text = read_text(path)
+    except InputError:
         return 0, set()
     for i, ln in enumerate(text.splitlines()):
         if ln.strip() and not ln.startswith("#"):

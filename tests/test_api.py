@@ -267,3 +267,13 @@ def test_results_are_frozen_dataclasses_with_numpy_arrays():
         f["nu"]
     rep = api.reproduce("marble-drop")
     assert dataclasses.is_dataclass(rep) and all(dataclasses.is_dataclass(r) for r in rep.rows)
+
+
+def test_load_says_what_a_fifo_is(tmp_path):
+    import os
+
+    fifo = tmp_path / "pipe.yaml"
+    os.mkfifo(fifo)
+    with pytest.raises(InputError) as exc:
+        api.load(str(fifo))  # must not hang, nor call it missing
+    assert "named pipe" in str(exc.value) and str(fifo) in str(exc.value)

@@ -20,7 +20,7 @@ def law():
 
 def test_identities_of_n3_hold_on_molecular_configurations(law):
     for rid in ("eq1_geometry", "eq1_molecule", "eq1", "eq2", "eq3_step_magnitudes", "eq3_step", "eq3", "eq5",
-                "eq6", "several_bodies", "principle_normal_equal", "vis_viva_decreases"):
+                "eq6", "several_bodies", "vis_viva_decreases"):
         assert law[rid].verdict == "reproduced" and law[rid].reason is None, rid
         assert law[rid].computed < 1e-12, rid
 
@@ -65,8 +65,12 @@ def test_law_6_and_the_constant_normal_ratio_agree_only_while_the_slip_lasts(law
 
 
 def test_bodies_are_rigid_at_the_greatest_compression_only_for_long_contacts(law):
-    r = law["principle_rigid"]
+    r = law["principle_rigid"]  # billiard contacts, τ ≥ 10: rigid within a few per cent
+    assert r.verdict == "reproduced" and r.reason is None and 0.005 < r.computed < 0.03
+    r = law["principle_rigid_beyond"]  # short contacts, beyond the paper's domain
     assert r.verdict == "differs" and r.reason == "assumption" and r.computed > 0.3
+    d = law["principle_normal_equal"]  # the definition of the greatest compression: cannot fail
+    assert d.verdict == "not-checkable" and d.note.startswith("a definition")
     slow = impact.chain_at_greatest_compression(100.0)
     fast = impact.chain_at_greatest_compression(1.0)
     assert slow["rigid_departure"] < 1e-3 < 0.3 < fast["rigid_departure"]
@@ -76,7 +80,7 @@ def test_bodies_are_rigid_at_the_greatest_compression_only_for_long_contacts(law
 def test_carnot_and_the_elastic_limit(law):
     assert law["eq4"].verdict == "reproduced" and law["elastic"].verdict == "reproduced"
     lit = law["elastic_literal"]
-    assert lit.verdict == "differs" and lit.reason == "erratum" and lit.computed > 0.5
+    assert lit.verdict == "differs" and lit.reason == "repair" and lit.computed > 0.5  # wording, repaired: elastic
     # equal masses, elastic: the striker stops (v1 = 0, not −v0); relative to u the velocities reverse
     out = impact.direct_impact(1.0, 1.0, 1.0, 0.0, eps=0.0, epsp=0.0)
     assert float(out.V1) == pytest.approx(0.0, abs=1e-15) and float(out.V1p) == pytest.approx(1.0)

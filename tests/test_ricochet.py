@@ -20,14 +20,15 @@ def rep():
 
 def test_printed_formulas_and_values_get_their_verdicts(rep):
     v = {r.id: r for r in rep.rows}
-    for rid in ("q_constant", "eq1", "eq2_original", "slip_direction", "eq3", "eq4_original", "eq5", "eq6", "eq7",
-                "eq7_components", "vertical_plane", "eq8", "eq9_premise", "angles_roze", "eq9", "mean_ratio",
+    for rid in ("q_constant", "eq1", "eq2_original", "slip_direction", "eq3", "eq4", "eq5", "eq6", "eq7",
+                "eq7_components", "vertical_plane", "range_ratio", "eq8", "eq9_premise", "angles", "eq9", "mean_ratio",
                 "footnote"):
         assert v[rid].verdict == "reproduced" and v[rid].reason is None, rid
-    differs = {"eq2": "ocr", "eq4": "ocr", "eq5_beyond": "assumption", "eq6_beyond": "assumption",
-               "eq7_beyond": "assumption", "vertical_plane_side_spin": "assumption", "range": "erratum",
-               "range_ratio": "ocr", "eq8_beyond": "assumption", "angles": "assumption", "eq9_beyond": "assumption",
-               "mean_ratio_spin": "assumption", "footnote_sqrt": "rounding"}
+    differs = {"eq2": "ocr", "eq5_beyond": "assumption", "eq6_beyond": "assumption",
+               "eq7_beyond": "assumption", "vertical_plane_beyond": "assumption", "range": "erratum",
+               "eq8_beyond": "assumption", "angles_beyond": "assumption", "eq9_beyond": "assumption",
+               "mean_ratio_beyond": "assumption"}
+    assert "footnote_sqrt" not in v  # √(2/3) = 0,81 is printed once: graded in marble-drop's row velocity_ratio
     for rid, reason in differs.items():
         assert v[rid].verdict == "differs" and v[rid].note and v[rid].reason == reason, rid
     assert v["range"].computed == pytest.approx(0.5, rel=1e-9)  # the printed range is half the true one
@@ -173,7 +174,7 @@ def test_ocr_rows_their_likely_originals_reproduce(rep):
     p = api.load("roze-ricochets")
     checks = rc.formula_checks(p.params, p.seed)
     assert v["eq2"].computed > 0.1 and v["eq2_original"].computed < 1e-12  # (2) with M dζ/dt = Z, v_y/v_x swapped
-    assert v["eq4"].computed == 1.0 and v["eq4_original"].computed < 1e-12  # (4) with dχ/dt, dζ/dt
+    assert v["eq4"].computed < 1e-12  # (4) read with dχ/dt, dζ/dt for the glyphs dx/dt, dz/dt: reproduced
     assert checks["range_ratio"] > 0.1 and checks["range_ratio_original"] < 1e-9  # the ratio with a for α
 
 

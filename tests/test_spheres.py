@@ -104,6 +104,14 @@ def test_ocr_rows_the_likely_original_reproduces(ballball):
     # (4) on the cloth as digitised lacks the R of R(p − p0); with it (the form (1′) uses) it reproduces
     assert rows["eq4_cloth"].reason == "ocr" and rows["eq4_cloth"].computed > 1 and c["eq4_cloth"] < 1e-12
     assert info["eq8_corrected"] < 1e-12  # (8) with k′ in its denominator is the exact path while sliding
+    # each OCR row stands beside a reproduced row grading its likely original, named in its note
+    for key, partner in (("eq2", "eq2_original"), ("eq2p", "eq2p_original"), ("integrals", "integrals_original"),
+                         ("eq3_substituted", "eq3_substituted_original"),
+                         ("impact_integrals", "impact_integrals_original"), ("eq_a", "eq_a_original"),
+                         ("eq8", "eq8_original"), ("eq4_cloth", "eq4_cloth_original"),
+                         ("loss_first_order", "loss_first_order_at_rest")):
+        assert rows[key].reason == "ocr" and f"row {partner}" in rows[key].note, key
+        assert rows[partner].verdict == "reproduced" and rows[partner].reason is None, partner
 
 
 def test_erratum_rows_the_corrected_value_is_what_we_compute(ballball):

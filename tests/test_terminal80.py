@@ -130,7 +130,7 @@ def test_reproduce_one_experiment_as_records(pendulum: tuple[Path, Result, Resul
         assert words(r["note"]) <= words(out), r["id"]
     assert words(" ".join(f["note"] for f in s["fits"])) <= words(out)
     # the record puts section and line on one line, the relative difference and reason beside the computed value
-    assert "where    §I n°5, line 164" in out and "(rel. diff -50.00%; reason: assumption)" in out
+    assert "where    §I n°5, line 164" in out and "(difference -50.00%; reason: assumption)" in out
     assert len(out.splitlines()) < 160  # 199 lines when each cell had its own line
 
 

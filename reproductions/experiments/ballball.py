@@ -30,7 +30,9 @@ QUANTITIES = ("free_direction", "eq5", "eq8_as_printed", "resal_sliding_error", 
               "premise_rolling", "premise_stun", "eq12_definition", "eq11_first_order", "eq13_first_order",
               "loss_first_order_digitised", "loss_first_order_original", "loss_first_order_at_rest",
               "eq14_first_order", "eq14p_first_order", "omega1_first_order", "omega_compression_cloth",
-              "first_order_stun", "resal_cloth_energy_stun", "resal_cloth_energy_beyond")
+              "first_order_stun", "resal_cloth_energy_stun", "resal_cloth_energy_beyond", "eq2_original",
+              "eq2p_original", "integrals_original", "eq3_substituted_original", "impact_integrals_original",
+              "eq_a_original", "eq8_original")
 MODERN = ("mu_bb", "mu_bb(v)", "e_bb")
 
 
@@ -118,6 +120,16 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     out["resal_sliding_error"] = float(np.max(err))
     out["resal_sliding_share"] = float(np.mean(ex.regime == Regime.GRIP))
     out["resal_sliding_energy"] = float(max(0.0, np.max(_vis_viva(rs, M, Mp, R, k) / T0 - 1)))
+    # a stun ball cut at 0,5° on a ball at rest, ε = 0: where (5), (8) gain most (the slip stops at once)
+    th = math.radians(0.5)
+    for key, f_stun in (("resal_sliding_stun", p.f), ("resal_sliding_stun_03", 0.3)):
+        one = np.array([[math.cos(th), math.sin(th), 0.0]]) * p.speed
+        zero = np.zeros((1, 3))
+        st = spheres.two_spheres(M, np.array([M]), R, R, k, k, one, zero, zero, zero, f=np.array([f_stun]),
+                                 eps=np.zeros(1), epsp=np.zeros(1), method="resal")
+        out[key] = float(_vis_viva(st, M, np.array([M]), R, k)[0] / (M * p.speed**2) - 1)
+    out["resal_sliding_energy"] = max(out["resal_sliding_energy"], out["resal_sliding_stun"],
+                                      out["resal_sliding_stun_03"])
     out["exact_energy"] = float(max(0.0, np.max(_vis_viva(ex, M, Mp, R, k) / T0 - 1)))
     # §VI on the cloth
     a = 1 + k + 1 * (1 + k)
@@ -133,8 +145,10 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     rc = spheres.two_spheres(M, M, R, R, k, k, sv, sw, svp, swp, f=p.f, eps=p.eps, epsp=p.eps, on_cloth=True,
                              method="resal")
     out["first_order_error"] = float(max(np.max(np.abs(rc.v1 - exc.v1)), np.max(np.abs(rc.v1p - exc.v1p))) / p.speed)
-    # (15) as printed: ω1 = 2(χ0 − χ0′)/(1 + M/M′), against 2ω/(1 + ε) of (14)-(14′)
-    out["eq15_as_printed"] = float(abs(2 * p.speed / 2 - 2 * (p.speed / 2) / (1 + p.eps)) / (p.speed / 2))
+    # (15) as printed: ω1 = 2(χ0 − χ0′)/(1 + M/M′), against 2ω/(1 + ε) of (14)-(14′), relative to the latter
+    # (head-on, M = M′, χ′0 = 0: ω = V/2)
+    omega_ = p.speed / 2
+    out["eq15_as_printed"] = float(abs(2 * omega_ - 2 * omega_ / (1 + p.eps)) / (2 * omega_ / (1 + p.eps)))
     vc, wc, vpc, wpc, Mpc, fc, epsc, _ = _random(seed + 1, 300, True)
     rcl = spheres.two_spheres(M, Mpc, R, R, k, k, vc, wc, vpc, wpc, f=fc, eps=epsc, epsp=epsc, on_cloth=True,
                               method="resal")
@@ -550,6 +564,10 @@ def _claim_rows(p: Params, c: dict[str, float], info: dict[str, Any]) -> dict[st
     fo = info["first_order"]
     out = {key: Computed(c[key], free) for key in (
         "eq1_free", "eq3_free", "eq4_definition", "eq_b", "eq_bp", "eq_c", "eq7_sliding", "omega_compression")}
+    # the likely originals of the OCR rows of n°12, graded in rows of their own (issue 23)
+    out.update({key: Computed(c[key], free + "; as the original most likely printed it") for key in (
+        "eq2_original", "eq2p_original", "integrals_original", "eq3_substituted_original",
+        "impact_integrals_original", "eq_a_original")})
     out.update({key: Computed(c[key], cloth) for key in (
         "eq1_cloth", "eq2_cloth", "eq2p_cloth", "eq3_cloth", "eq4_cloth", "eq1p_cloth", "eq5_cloth", "eq6_cloth",
         "eq7_cloth", "eq8_cloth", "eq9_cloth", "eq10_cloth")})
@@ -559,7 +577,7 @@ def _claim_rows(p: Params, c: dict[str, float], info: dict[str, Any]) -> dict[st
         "lost the R before (p − p0) and is not homogeneous (a rotation where a velocity belongs; the discrepancy, "
         "in SI units, is that of R(p′ − p′0) against (k′/k)(M/M′)(p − p0)); the likely original "
         "Rp′ = Rp′0 + (k′/k)(M/M′)R(p − p0), which (1′) uses, reproduces (discrepancy "
-        f"{c['eq4_cloth']:.1e})"))
+        f"{c['eq4_cloth']:.1e}, row eq4_cloth_original)"))
     out["eq2_cloth"] = Computed(c["eq2_cloth"], cloth + (
         "; the digitised text's dx/dt, dx_i/dt and v′ are the glyphs of dχ/dt, dη/dt and v"))
     out["eq2p_cloth"] = Computed(c["eq2p_cloth"], cloth + "; the digitised v′ in (2′) is the glyph of v")
@@ -571,8 +589,10 @@ def _claim_rows(p: Params, c: dict[str, float], info: dict[str, Any]) -> dict[st
 
     def ocr(key: str, why: str) -> Computed:
         orig = c[key.replace("digitised", "original") if "digitised" in key else key + "_original"]
-        return Computed(c[key], free, lambda _p, why=why, orig=orig: (
-            why + ("" if orig is None else f"; the likely original reproduces (discrepancy {orig:.1e})")))
+        partner = key.replace("_digitised", "_original") if "digitised" in key else key + "_original"
+        return Computed(c[key], free, lambda _p, why=why, orig=orig, partner=partner: (
+            why + ("" if orig is None else f"; the likely original reproduces (discrepancy {orig:.1e}, "
+                                           f"row {partner})")))
 
     out["eq2_digitised"] = ocr("eq2_digitised", (
         "OCR: the digitised (2) gives the rotation q the rate −(v_z/v) f R X; the likely original has −(v_y/v) f R X "
@@ -621,7 +641,8 @@ def _claim_rows(p: Params, c: dict[str, float], info: dict[str, Any]) -> dict[st
     out["loss_first_order_digitised"] = Computed(c["loss_first_order_digitised"], rolling, lambda _p: (
         "OCR: the digitised bracket closes after −2f sin γ R(p0 + p′0), which then has the factor 2f cos γ (second "
         "order); the likely original closes it after R(q0 + q′0) and is right for M′ at rest (discrepancy "
-        f"{c['loss_first_order_at_rest']:.1e} of M V²); r0 − r′0 is the glyph of η0 − η′0"))
+        f"{c['loss_first_order_at_rest']:.1e} of M V², row loss_first_order_at_rest); r0 − r′0 is the glyph of "
+        "η0 − η′0"))
     out["loss_first_order_original"] = Computed(c["loss_first_order_original"], (
         f"as the likely original, against the exact loss, for an object ball coming at 0,3 V towards the cue ball, "
         f"rolling (f = {p.f:g})"), lambda _p: (
@@ -659,7 +680,11 @@ def run(exp: Experiment) -> Reproduction:
     computed["eq8_as_printed"] = Computed(c["eq8_as_printed"], how, lambda _p: (
         "OCR (a lost prime, as on the line of the first integrals): the second bracket of the denominator has "
         "1 + f²(1 + k) where (6) and the derivation give 1 + f²(1 + k′); the two agree for balls of one make "
-        f"(k = k′); with k′ (8) equals the exact path where the balls slide (discrepancy {info['eq8_corrected']:.1e})"))
+        f"(k = k′); with k′ (8) equals the exact path where the balls slide (discrepancy {info['eq8_corrected']:.1e}, "
+        "row eq8_original)"))
+    computed["eq8_original"] = Computed(info["eq8_corrected"], (
+        "largest |ω1 by (8) with k′ in the second bracket of the denominator − ω1 exact|/ω over the random scenes "
+        "where the balls slide throughout"))
     computed["eq9_as_printed"] = Computed(c["eq9_as_printed"], how, lambda _p: (
         "erratum: (9) drops the factor ω = (χ0 − χ0′)/(1 + M/M′) that it was to substitute into (8): as printed "
         "it is not a velocity (and has k for k′ as (8)); corrected, ω1 = 2(χ0 − χ′0){1 + f²(1 + k) + (M/M′)"
@@ -669,9 +694,10 @@ def run(exp: Experiment) -> Reproduction:
                                                lambda _p: (
         f"(5) and (8) assume the balls slide during the whole impact; the slip stops in "
         f"{c['resal_sliding_share']:.0%} of random scenes (f up to 0,3), where friction would reverse it: errors up "
-        f"to {c['resal_sliding_error']:.2g} of the approach speed, vis viva gained up to "
-        f"{c['resal_sliding_energy']:.1%}. The exact path lets the slip stop and never gains "
-        f"({c['exact_energy']:.1e})"))
+        f"to {c['resal_sliding_error']:.2g} of the approach speed; vis viva gained: a stun ball cut at 0,5° on a ball "
+        f"at rest (ε = 0) gains {c['resal_sliding_stun']:+.2%} at f = {p.f:g} and {c['resal_sliding_stun_03']:+.0%} at "
+        f"f = 0,3 (largest over these and the random scenes {c['resal_sliding_energy']:.0%}). The exact path lets "
+        f"the slip stop and never gains ({c['exact_energy']:.1e})"))
     computed["b_over_a"] = Computed(c["b_over_a"], "a = 1 + k + (M/M′)(1 + k′), b = k + Mk′/M′, eq. (5) of n°13",
                                     lambda pr: (f"erratum: for identical homogeneous balls (k = k′ = 5/2, M = M′) "
                                                 f"a = 7, b = 5 (the slip's rates, checked in the rigid integration: "
@@ -680,12 +706,17 @@ def run(exp: Experiment) -> Reproduction:
         f"the friction impulse ends {c['cloth_direction_turns']:.1f}° away from the initial slip (largest over cut "
         f"angles, f = {p.f:g}): the direction is not constant, as the paper says against Coriolis"))
     computed["first_order_error"] = Computed(c["first_order_error"], (
-        f"largest |v(11–15) − v(exact)|/V over cut angles 5°–85°, f = {p.f:g}"))
-    computed["eq15_as_printed"] = Computed(c["eq15_as_printed"], "relative difference for a head-on scene",
-                                           lambda _p: (
+        f"largest |v(11–15) − v(exact)|/V over cut angles 5°–85°, f = {p.f:g}, with (15) corrected: ω1 = 2ω/(1 + ε) "
+        f"as (14)-(14′) give (the printed (15) omits 1 + ε, row eq15; it would make ω1 {c['eq15_as_printed']:.1%} "
+        f"too large at ε = {p.eps:g})"))
+    computed["eq15_as_printed"] = Computed(c["eq15_as_printed"], (
+        "|ω1 by (15) − ω1 by (14)-(14′)| relative to the ω1 of (14)-(14′), 2ω/(1 + ε), for a head-on scene "
+        "(M = M′, M′ at rest: ω = V/2)"), lambda _p: (
         f"erratum: (14)-(14′) give ω1 = 2ω/(1 + ε), and with ω of n°12 ω1 = 2(χ0 − χ′0)/((1 + M/M′)(1 + ε)); the "
-        f"printed (15) omits 1 + ε (right only for ε = 0; here ε = {p.eps:g}); corrected, it is the first-order ω1 "
-        f"(row omega1, within {c2['omega1_first_order']:.1e} V of the exact one)"))
+        f"printed (15) omits 1 + ε (right only for ε = 0; here ε = {p.eps:g}): it is 1 + ε times the ω1 of "
+        f"(14)-(14′), {c['eq15_as_printed']:.4f} of that ω1 too large ({1 - 1 / (1 + c['eq15_as_printed']):.4f} of "
+        f"the printed ω1, {2 * c['eq15_as_printed'] / (1 + c['eq15_as_printed']):.4f} of ω); corrected, it is the "
+        f"first-order ω1 (row omega1, within {c2['omega1_first_order']:.1e} V of the exact one)"))
     computed["resal_cloth_energy"] = Computed(c["resal_cloth_energy"], "largest relative gain of vis viva",
                                               lambda _p: (
         f"to first order in f the slip is taken as constant; where it would stop it overshoots and "

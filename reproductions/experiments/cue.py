@@ -19,8 +19,8 @@ from ..mechanics import cloth, cue, impact, reference
 from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
 
 QUANTITIES = ("eq5_full_moment", "eq5_own_moment", "eq7_own_moment", "eq7_n1_as_printed", "energy_resal",
-              "central_stroke", "friction_angle_high", "friction_angle_low", "epsp_cue", "criterion_as_printed",
-              "criterion_derived")
+              "energy_resal_beyond", "central_stroke", "friction_angle_high", "friction_angle_low", "epsp_cue",
+              "criterion_as_printed", "criterion_derived")
 MODERN = ("e_tip", "mu_tip", "m_ball/m_cue")
 
 
@@ -122,13 +122,26 @@ def checks(p: Params, seed: int, epsp: float) -> dict[str, float]:
         T0 = p.Mp * p.V0p**2
         T1 = (p.Mp * s.V1p**2 + M * (s.chi1**2 + s.eta1**2) + M * R * R / k * (s.n1**2 + s.p1**2 + s.q1**2))
         gains[method] = (T1 - T0) / T0
-    worst["energy_resal"] = float(max(0.0, np.max(gains["resal"])))
-    worst["energy_share"] = float(np.mean(gains["resal"] > 1e-12))
-    worst["energy_exact"] = float(max(0.0, np.max(gains["exact"])))
-    # a central horizontal stroke is n°5's direct impact, eq. (8)
-    s0 = cue.cue_stroke(M, p.Mp, p.V0p, 0.0, 0.0, 0.0, R=R, k=k, f=p.f, eps=p.eps, epsp=epsp)
-    d0 = impact.direct_impact(p.Mp, M, p.V0p, 0.0, eps=epsp, epsp=p.eps)
-    worst["central_stroke"] = max(abs(float(s0.chi1 - d0.V1p)), abs(float(s0.V1p - d0.V1))) / p.V0p
+    # the paper's domain (line 721): the cue's axis inside the tip's friction cone, φ ≤ atan f_tip; the widest cone
+    # of the footnote (f_tip = 0,50) and the narrowest (0,20); beyond it, « fausse queue »
+    phi = np.arccos(np.clip(s.cos_phi, -1.0, 1.0))
+    gain = gains["resal"]
+    for name, f_tip in (("", max(p.tip_friction)), ("_narrow", min(p.tip_friction))):
+        inside = phi <= float(cue.miscue_angle(f_tip))
+        worst["energy_resal" + name] = float(max(0.0, np.max(gain[inside], initial=0.0)))
+        worst["energy_share" + name] = float(np.mean(gain[inside] > 1e-12))
+        worst["energy_count" + name] = float(np.sum(inside))
+        worst["energy_exact" + name] = float(max(0.0, np.max(gains["exact"][inside], initial=0.0)))
+    beyond = phi > float(cue.miscue_angle(max(p.tip_friction)))
+    worst["energy_resal_beyond"] = float(max(0.0, np.max(gain[beyond], initial=0.0)))
+    worst["energy_share_beyond"] = float(np.mean(gain[beyond] > 1e-12))
+    worst["energy_phi_beyond"] = float(np.degrees(phi[beyond][np.argmax(gain[beyond])]))
+    worst["energy_exact_all"] = float(max(0.0, np.max(gains["exact"])))
+    # a central horizontal stroke is n°5's direct impact, eq. (8), for any ε, ε′ (an identity: random pairs)
+    e_b, e_c = np.random.default_rng(seed + 2).uniform(0.0, 1.0, (2, 50))
+    s0 = cue.cue_stroke(M, p.Mp, p.V0p, 0.0, 0.0, 0.0, R=R, k=k, f=p.f, eps=e_b, epsp=e_c)
+    d0 = impact.direct_impact(p.Mp, M, p.V0p, 0.0, eps=e_c, epsp=e_b)
+    worst["central_stroke"] = float(max(np.max(np.abs(s0.chi1 - d0.V1p)), np.max(np.abs(s0.V1p - d0.V1)))) / p.V0p
     # direct or retrograde: the sign of χ1 (first of eqs 7) against the printed criterion cos γ ≶ f cos i
     ig, cg = np.meshgrid(np.radians(np.linspace(1, 89, 60)), np.linspace(-0.9, 0.9, 41), indexing="ij")
     per = cue.stroke_per_impulse(ig, 0.3 * R, cg * R, R=R, k=k, f=p.f, M=M, method="resal")
@@ -155,14 +168,34 @@ def run(exp: Experiment) -> Reproduction:
     computed["eq7_n1_as_printed"] = Computed(c["eq7_n1_as_printed"], how, lambda _p: (
         "eq. (2) integrates to R²n1/k = −μ(b + fR sin γ) sin i ω1; the printed −μ(b + fR cos γ sin i) ω1 has "
         "cos γ for sin γ and b without sin i (a slip of the original or of the transcription)"))
-    computed["energy_resal"] = Computed(c["energy_resal"], "largest relative gain of vis viva over 4000 random "
-                                        "off-centre strokes, with eqs (10)-(12)", lambda _p: (
-        f"eq. (12) ends the compression on equal normal velocities while the impulse is along the axis: the "
-        f"friction term 2V′0 − 2Aω of (9′) turns negative and {c['energy_share']:.0%} of random off-centre strokes "
-        f"gain vis viva (up to ×{1 + c['energy_resal']:.3g}, where the denominator of (12) nears zero: the cloth's "
-        f"friction drives the ball back against the cue). Ending the compression along the axis instead "
-        f"(method 'exact') never gains (largest {c['energy_exact']:.1e})"))
-    computed["central_stroke"] = Computed(c["central_stroke"], "a central horizontal stroke against n°5's eq. (8)")
+    cone = f"φ ≤ {math.degrees(float(cue.miscue_angle(max(p.tip_friction)))):.2f}°"
+    computed["energy_resal"] = Computed(c["energy_resal"], (
+        "largest relative gain of vis viva with eqs (10)-(12), over the random off-centre strokes (of 4000) whose cue "
+        f"axis lies inside the tip's friction cone ({cone}, tip friction {max(p.tip_friction):g}, line 721)"),
+        lambda _p: (
+        f"inside the paper's domain (the cue's axis inside the tip's friction cone, {cone} for the footnote's "
+        f"0,50, line 721), {c['energy_share']:.0%} of the {c['energy_count']:.0f} random off-centre strokes gain vis "
+        f"viva, up to +{c['energy_resal']:.2f} (relative); in the narrowest cone (tip friction "
+        f"{min(p.tip_friction):g}) {c['energy_share_narrow']:.0%} of {c['energy_count_narrow']:.0f}, up to "
+        f"+{c['energy_resal_narrow']:.2f}. Eq. (12) ends the compression on equal normal velocities while the "
+        f"impulse is along the axis: the friction term 2V′0 − 2Aω of (9′) turns negative. Ending the compression "
+        f"along the axis instead (method 'exact') never gains there (largest {c['energy_exact']:.1e}); the "
+        f"unplayable strokes beyond the cone: row energy_beyond"))
+    computed["energy_resal_beyond"] = Computed(c["energy_resal_beyond"], (
+        "largest relative gain of vis viva with eqs (10)-(12), over the random off-centre strokes (of 4000) whose cue "
+        f"axis lies outside the tip's friction cone (φ > {cone[4:]}: « fausse queue »)"), lambda _p: (
+        f"beyond the friction cone, where the paper says no stroke is of use (« fausse queue », line 721), "
+        f"{c['energy_share_beyond']:.0%} of the random strokes gain vis viva, up to "
+        f"×{1 + c['energy_resal_beyond']:.3g} "
+        f"at φ = {c['energy_phi_beyond']:.0f}°, where the denominator of (12) nears zero (the cloth's friction drives "
+        f"the ball back against the cue). Method 'exact' never gains (largest {c['energy_exact_all']:.1e}, all "
+        f"strokes)"))
+    computed["central_stroke"] = Computed(None, (
+        "a definition: eq. (10) for a central horizontal stroke (i = b = c = 0) is n°5's eq. (8) for any ε, ε′ (they "
+        f"agree to {c['central_stroke']:.0e} V′0 over 50 random pairs), so this cannot fail. Line 212 adopts n°5's "
+        "ε′ = 0,27 « pour un coup de queue sur une bille, de quelque manière qu'il soit donné »: an extension of one "
+        "measurement (a central stroke) that neither the paper's premises nor the mechanics determine (ε′ is an "
+        "input of eqs 9-10); eqs (10)-(12) with it are graded by rows energy and eq10_original"))
     deg = [math.degrees(float(cue.miscue_angle(t))) for t in sorted(p.tip_friction)]
     computed["friction_angle_high"] = Computed(deg[-1], f"atan {max(p.tip_friction):g} in degrees")
     computed["friction_angle_low"] = Computed(deg[0], f"atan {min(p.tip_friction):g} in degrees", lambda pr: (
@@ -279,7 +312,8 @@ def _figure_region(p: Params, epsp: float) -> FigureSpec:
 # ---- n°14 claim by claim (issue 13): each printed line against an independent computation ----------------------
 CLAIMS = ("eq1_slip", "eq2_as_digitised", "eq2_moment_y", "eq2_repaired", "eq3_as_digitised", "eq4_constant",
           "eq5_repaired", "eq7_grip", "eq7_full_chi", "eq7_full_eta", "eq7_full_n", "eq7_full_p", "eq7_full_q",
-          "eq7_repaired", "eq6_definition", "eqa_lost", "eq8_as_digitised", "eq8_original", "eqb_ball", "eqc_cue",
+          "eq7_repaired", "eq6_definition", "eqa_lost", "eq8_as_digitised", "eq8_original", "eq8_full_moment",
+          "eq8_repaired", "eqb_ball", "eqc_cue",
           "eqd_as_printed", "eq9_as_printed", "eq9p_as_printed", "eq9p_corrected", "eq10_as_digitised",
           "eq10_original", "eq11_as_printed", "eq_normal_velocity", "eq_normal_velocity_7", "eq12_as_derived",
           "cone_no_slip", "criterion_full", "criterion_repaired", "eps_n5_fraction", "eps_n5_decimal",
@@ -343,6 +377,14 @@ def _A(p: Params, ii: float, b: float, c: float, ff: float, g: float, mu: float,
         return 1 + mu * (head + k**2 / R * ((b + ff * R) ** 2 * si**2 + (c * ci + R * cg * si) ** 2 + b**2 * ci**2))
     return 1 + mu * (head + k / R**2 * ((b + ff * R * sg) ** 2 * si**2 + (c * ci + ff * R * cg * si) ** 2
                                         + b**2 * ci**2))
+
+
+def _A_repaired(p: Params, ii: float, a: float, b: float, c: float, ff: float, g: float, mu: float) -> float:
+    """eq. (8) repaired with the full moment: γ of the repaired (5) and c cos i + a sin i in the second square."""
+    k, R = p.k, p.R
+    si, ci, cg, sg = math.sin(ii), math.cos(ii), math.cos(g), math.sin(g)
+    return 1 + mu * ((ci - ff * cg * si) ** 2 + ff**2 * sg**2 * si**2 + k / R**2 * (
+        (b + ff * R * sg) ** 2 * si**2 + (c * ci + a * si + ff * R * cg * si) ** 2 + b**2 * ci**2))
 
 
 def _ball_vis_viva(p: Params, y: np.ndarray) -> float:
@@ -422,10 +464,15 @@ def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
     out["eq2_repaired"], out["eq2_own_breach"] = breach[True], breach[False]
     # eqs (5), (7) with the full moment, line by line; the repaired forms
     lines = np.zeros(5)
-    rep5 = rep7 = 0.0
+    rep5 = rep7 = a8f = a8r = 0.0
     for s in full:
         ii_, a_, b_, c_, f_, _ = s
         y = _y(p, s, P, True)
+        A_int = 1 + Mp * _ball_vis_viva(p, y) / P**2  # as (8) defines A: 1 + the ball's vis viva over M′ω1²
+        a8f = max(a8f, abs(_A(p, ii_, b_, c_, f_, _gamma_printed(p, ii_, b_, c_), mu, digitised=False) - A_int)
+                  / A_int)
+        a8r = max(a8r, abs(_A_repaired(p, ii_, a_, b_, c_, f_, _gamma_repaired(p, ii_, a_, b_, c_), mu) - A_int)
+                  / A_int)
         g_int = math.atan2(y[1] + y[2] * R, y[0] - y[3] * R)
         g_rep = _gamma_repaired(p, ii_, a_, b_, c_)
         rep5 = max(rep5, abs((g_rep - g_int + math.pi / 2) % math.pi - math.pi / 2))
@@ -437,6 +484,13 @@ def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
     for key, v in zip(("chi", "eta", "n", "p", "q"), lines, strict=True):
         out[f"eq7_full_{key}"] = float(v)
     out["eq5_repaired"], out["eq7_repaired"] = rep5, rep7
+    out["eq8_full_moment"], out["eq8_repaired"] = a8f, a8r
+    # the reference stroke of the note: i = 20°, b = 0.3R, c = 0.1R, the cloth's f (it slides)
+    ref = (math.radians(20.0), float(cue.contact_point(0.3 * R, 0.1 * R, R)), 0.3 * R, 0.1 * R, p.f, None)
+    y_ref = _y(p, ref, P, True)
+    out["eq8_ref_full"] = 1 + Mp * _ball_vis_viva(p, y_ref) / P**2
+    out["eq8_ref_original"] = _A(p, ref[0], ref[2], ref[3], p.f, _gamma_printed(p, ref[0], ref[2], ref[3]), mu,
+                                 digitised=False)
     # eqs (7) where the cloth holds the ball (the friction is then below f F sin i)
     worst = 0.0
     for s in grip:
@@ -558,6 +612,7 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
     """The Computed values of the claim-by-claim rows (``claims``), with what explains each disagreement."""
     integ = "largest discrepancy from the impulse integration of eqs (3) (rtol 1e-10)"
     mu_tip = max(p.tip_friction)
+    mu = p.Mp / p.M
 
     def why(text: str) -> Callable[[float], str]:
         return lambda _pr: text
@@ -571,7 +626,8 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
             "axis inside the cone is not supported")),
         "mu_ratio": Computed(None, "a property of the cues and balls of 1883 (today's 18 oz cue, 6 oz ball: 3)"),
         "tip_friction_range": Computed(None, "a measurement of the chalked tip, which no premise of the paper gives"),
-        "f_cloth": Computed(None, "Coriolis's measured value (n°7), which no premise of the paper gives"),
+        "f_cloth": Computed(None, "a measurement: Coriolis's value of the cloth's friction (n°7), which no premise of "
+                            "the paper gives"),
         "eq1_slip": Computed(k["eq1_slip"], "v + ω × r at the foot r = (0, 0, −R), over 200 random states (m/s)"),
         "eq2_as_digitised": Computed(k["eq2_as_digitised"], "largest discrepancy per unit F from Newton–Euler", why(
             "the digitised second line reads « M dη/dt = F(cos i − f v_x/v cos i) » and the fourth « dv/dt »; the 1883 "
@@ -619,6 +675,17 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
             "(8) as most likely printed, A = 1 + μ{(cos i − f cos γ sin i)² + f² sin²γ sin²i + (k/R²)[(b + fR sin γ)² "
             "sin²i + (c cos i + fR cos γ sin i)² + b² cos²i]}, against 1 + (ball's vis viva)/(M′ω1²) of the "
             "integration of Résal's eqs (2); with the full moment c cos i becomes c cos i + a sin i")),
+        "eq8_full_moment": Computed(k["eq8_full_moment"], (
+            "relative discrepancy of (8) as most likely printed (γ of the printed 5, c cos i) from 1 + (ball's vis "
+            "viva)/(M′ω1²) of the integration with the full moment of F, over 12 random sliding strokes"), why(
+            f"(8) follows from eqs (7), which omit the moment F a sin i about Cy: against the full-moment mechanics it "
+            f"errs by up to {k['eq8_full_moment']:.1%}; in the reference stroke (i = 20°, b = 0.3R, c = 0.1R, "
+            f"f = {p.f:g}, μ = {mu:g}) it gives A = {k['eq8_ref_original']:.3f} where the mechanics give "
+            f"{k['eq8_ref_full']:.3f}. With γ of the repaired (5) and c cos i + a sin i it agrees (row eq8_repaired)")),
+        "eq8_repaired": Computed(k["eq8_repaired"], (
+            "(8) repaired, A = 1 + μ{(cos i − f cos γ sin i)² + f² sin²γ sin²i + (k/R²)[(b + fR sin γ)² sin²i + "
+            "(c cos i + a sin i + fR cos γ sin i)² + b² cos²i]} with γ of the repaired (5), against the full-moment "
+            "integration (relative)")),
         "eqb_ball": Computed(k["eqb_ball"], "M′(A − 1)ω1² against the ball's vis viva (lost velocities, from rest)"),
         "eqc_cue": Computed(k["eqc_cue"], "M′ω1² against M′(V′0 − V′1)²"),
         "eqd_as_printed": Computed(k["eqd_as_printed"], "relative discrepancy of each printed right-hand side from its "

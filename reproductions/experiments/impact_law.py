@@ -22,7 +22,8 @@ from ..mechanics import impact, reference
 from .base import Computed, Reproduction, modern_rows, read_ball, rows_for
 
 QUANTITIES = (
-    "principle_normal_equal", "principle_rigid", "vis_viva_decreases", "eq1_geometry", "eq1_molecule", "eq1",
+    "principle_normal_equal", "principle_rigid", "principle_rigid_beyond",
+    "vis_viva_decreases", "eq1_geometry", "eq1_molecule", "eq1",
     "eq2_as_digitised", "eq2", "premise_opposite_in", "premise_opposite_out", "eq3_step_magnitudes", "eq3_step",
     "eq3", "eq4", "elastic_literal", "elastic", "eq5", "eps_differ_premise", "eq6", "several_bodies",
     "eps_not_specific", "balls_eps_small", "n4_sliding", "n4_slip_stops",
@@ -187,6 +188,9 @@ def _plane(p: Params, rng: np.random.Generator) -> dict[str, np.ndarray]:
     return impact.sphere_plane_law(chi0, zeta0, p0, R=p.R, k=p.k, f=f, nu=nu)
 
 
+BILLIARD_TAU = 10.0  # contact time over wave-transit time of billiard balls (≈ 0.2 ms against ≈ 0.03 ms), n°2's domain
+
+
 def run(exp: Experiment) -> Reproduction:
     p: Params = exp.params
     rng = np.random.default_rng(exp.seed)
@@ -205,8 +209,12 @@ def run(exp: Experiment) -> Reproduction:
     # ε of each datum printed to two decimals at best: the cushion's 0,55 moves ε by ±0.004
     band = abs(float(impact.eps_from_velocity_ratio(p.cushion_ratio - 0.005)) - eps_c)
     apart = max(0.0, band - abs(eps_c - eps_m))
-    rigid = max(c["rigid_departure"] for c in chains.values())
-    per_tau = "; ".join(f"τ = {t:g}: {c['rigid_departure']:.3g}" for t, c in chains.items())
+    inside = [c["rigid_departure"] for t, c in chains.items() if t >= BILLIARD_TAU]
+    outside = [c["rigid_departure"] for t, c in chains.items() if t < BILLIARD_TAU]
+    rigid = max(inside) if inside else None
+    rigid_beyond = max(outside) if outside else None
+    per_tau_in = "; ".join(f"τ = {t:g}: {c['rigid_departure']:.3g}" for t, c in chains.items() if t >= BILLIARD_TAU)
+    per_tau_out = "; ".join(f"τ = {t:g}: {c['rigid_departure']:.3g}" for t, c in chains.items() if t < BILLIARD_TAU)
     stops = ~sliding
     how_mol = f"largest |left − right| / (Σ m v0² + Σ m v1²) over {p.scenes} random molecular configurations"
 
@@ -215,16 +223,23 @@ def run(exp: Experiment) -> Reproduction:
 
     computed = {
         "principle_normal_equal": Computed(
-            max(c["normal_difference"] for c in chains.values()),
-            f"elastic chains of {p.molecules} molecules per body (contact over wave-transit time τ in "
-            f"{', '.join(f'{t:g}' for t in p.taus)}): |difference of the contact molecules' normal velocities| / "
-            "approach speed at the first greatest compression (kinematics: the overlap stops growing there)"),
+            None,
+            "a definition: the greatest compression is the instant the overlap stops growing, i.e. the instant the "
+            "contact molecules' normal velocities are equal; in elastic chains of "
+            f"{p.molecules} molecules per body they agree to "
+            f"{max(c['normal_difference'] for c in chains.values()):.1e} of the approach speed, as they must"),
         "principle_rigid": Computed(
-            rigid, "largest |molecule velocity − its body's mean| / approach speed at the greatest compression",
+            rigid, f"largest |molecule velocity − its body's mean| / approach speed at the greatest compression, "
+                   f"elastic chains whose contact lasts τ ≥ {BILLIARD_TAU:g} wave transits (billiard balls: contact "
+                   "≈ 0.2 ms against ≈ 0.03 ms for a wave to cross, τ ≈ 10): " + per_tau_in,
+            diag(f"at billiard contact times the bodies depart from a rigid motion by {per_tau_in}")),
+        "principle_rigid_beyond": Computed(
+            rigid_beyond, "largest |molecule velocity − its body's mean| / approach speed at the greatest "
+                          f"compression, elastic chains whose contact lasts τ < {BILLIARD_TAU:g} wave transits",
             diag(f"the bodies are not rigid at the greatest compression unless the contact lasts many times the "
-                 f"time a wave takes to cross them: departure from a rigid motion {per_tau} (about 1/τ²; billiard "
-                 "balls, contact ≈ 0.2 ms against ≈ 0.03 ms for a wave to cross, sit near τ ≈ 10). Eq. (2) rests "
-                 "on this rigidity")),
+                 f"time a wave takes to cross them: departure from a rigid motion {per_tau_out} (about 1/τ²); "
+                 "billiard balls sit near τ ≈ 10, where it is small (row principle_rigid). Eq. (2) rests on this "
+                 "rigidity")),
         "vis_viva_decreases": Computed(
             max(0.0, -min_loss),
             f"gain of vis viva (0 if none) over: eq. (3) on molecular configurations with n in [0, 1] (ε = 0 "
@@ -263,7 +278,8 @@ def run(exp: Experiment) -> Reproduction:
                                        "impacts integrated with e = 0 (Carnot's theorem)"),
         "elastic_literal": Computed(
             direct["elastic_literal"], "largest |v1 + v0| / (V0 − V0′), direct impacts integrated with e = 1",
-            diag("read literally ('les vitesses des molécules à la fin du choc seraient égales et de sens "
+            diag("a wording slip, not a slip of mechanics (the repaired reading is row elastic): read literally "
+                 "('les vitesses des molécules à la fin du choc seraient égales et de sens "
                  "contraire à ce qu'elles étaient au commencement', v1 = −v0) the sentence is false: equal masses "
                  "exchange velocities. Corrected: the velocities relative to the motion at the greatest "
                  "compression are reversed, φ1 = −φ0 (n = 1), which holds (row elastic)")),

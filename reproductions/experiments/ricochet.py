@@ -40,7 +40,7 @@ STATIC = ("eq1_slip", "q_constant", "eq2_as_printed", "eq2_original", "slip_dire
           "eq7_tan_sliding", "eq7_components_sliding", "eq7_tan_all_regimes", "vertical_plane",
           "vertical_plane_side_spin", "range_formula", "range_ratio", "eq8_sliding", "eq8_all_regimes", "eq9_limit",
           "eq9_premise", "eq9_beyond", "angles_decrease", "angles_decrease_roze", "mean_ratio_spinless",
-          "mean_ratio_spin", "ligneous_layer", "footnote_drop_ratio", "footnote_sqrt")
+          "mean_ratio_spin", "ligneous_layer", "footnote_drop_ratio")
 MODERN = ("e_t",)
 MAX_SEEDS = 1000  # repetitions of the estimator comparison: 40 take about a second; 1000 pin the bias to 0.3 %
 SURFACE_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
@@ -363,12 +363,10 @@ def run(exp: Experiment) -> Reproduction:
         f"with v_y): off by up to {c3['eq2_as_printed']:.3g} per unit impulse. The original most likely printed "
         "M dζ/dt = Z, (MR²/k) dn/dt = −(v_y/v) fZR, (MR²/k) dp/dt = (v_x/v) fZR, as §II's (2) (line 266) and as "
         "(3)–(4) need: row eq2_original"))
-    computed["eq4_as_printed"] = Computed(1.0, (
-        "read literally, M dx/dt = −fZ says Mχ = −fZ: at the first instant of contact Z = 0 while χ0 ≠ 0 (relative "
-        "discrepancy 1); likewise M dz/dt = Z"), lambda _p: (
-        "as digitised, (4) reads M dx/dt = −fZ, M dz/dt = Z (position rates against forces: not homogeneous); the "
-        "original most likely printed M dχ/dt = −fZ, M dζ/dt = Z, which the vector equations give exactly: row "
-        "eq4_original"))
+    computed["eq4_as_printed"] = Computed(c3["eq4_original"], how3 + (
+        "; the digitised M dx/dt = −fZ, M dz/dt = Z read dx, dz for dχ, dζ (single glyphs, unambiguous: position "
+        "rates against forces would not be homogeneous, and (3) and (5) use the velocities), graded as "
+        "M dχ/dt = −fZ, M dζ/dt = Z"))
     computed["eq5_all_regimes"] = Computed(c3["eq5_all_regimes"], how3, lambda _p: (
         f"(5) integrates (4), i.e. assumes the contact slides during the whole impact; where the slip stops "
         f"(|v_x0| < f(1 + k)(1 + ν)|ζ0|) the contact then rolls without friction and (5) overshoots by up to "
@@ -395,11 +393,10 @@ def run(exp: Experiment) -> Reproduction:
         "lacks the factor 2 in P0, P1 and their ratio alike, a slip of the 1883 original (the ratio (8) is "
         f"unaffected, the factor cancels); with it the integrated flight agrees to {checks['range_corrected']:.1e}. "
         "The digitised α0² for a0² (also 'α0, α0' for 'a0, α0' above it) is an OCR slip"))
-    computed["range_ratio"] = Computed(checks["range_ratio"], how, lambda _p: (
-        "as digitised the ratio reads α1² sin α1 cos α1 / (α0² sin α0 cos α0), the angles α for the speeds a: an "
-        "OCR slip. The original most likely printed a1² sin α1 cos α1 / (a0² sin α0 cos α0), right (the factor 2 "
-        "missing from P0 and P1 cancels): it agrees with the integrated flights to "
-        f"{checks['range_ratio_original']:.1e}"))
+    computed["range_ratio"] = Computed(checks["range_ratio_original"], how + (
+        "; the digitised α1², α0² are the glyphs of the speeds a1², a0² (as 'α0, α0' for 'a0, α0' two lines up; "
+        "read as angles the ratio would be off by up to " f"{checks['range_ratio']:.3g}" "): graded as "
+        "a1² sin α1 cos α1 / (a0² sin α0 cos α0), whose missing factor 2 (row range) cancels"))
     computed["eq8_all_regimes"] = Computed(checks["eq8_all_regimes"], how, lambda _p: (
         f"(8) is exact while the contact slides; where the slip stops during an impact the exact ratio is "
         f"ν(kχ0 + p0R)/((1 + k)χ0) and (8) errs by up to {checks['eq8_all_regimes']:.0%} (see the error map)"))
@@ -441,10 +438,9 @@ def run(exp: Experiment) -> Reproduction:
         "figures alone (paper on marble 0,65, fir 0,63, bare marble 0,80–0,85), which are not reproducible without "
         "his series"))
     drop_ratio = math.sqrt(p.drop_height_ratio)
-    computed["footnote_drop_ratio"] = Computed(drop_ratio, "√ of n°5's rebound height ratio on marble")
-    computed["footnote_sqrt"] = Computed(drop_ratio, "√ of n°5's rebound height ratio on marble", lambda _p: (
-        f"√(2/3) = {drop_ratio:.4f}, which rounds to 0,82; the printed 0,81 truncates it (both give 0,8 at one "
-        "digit)"))
+    computed["footnote_drop_ratio"] = Computed(drop_ratio, (
+        "√ of n°5's rebound height ratio on marble, against Rozé's ν; the printed value √(2/3) = 0,81 itself is "
+        "graded once, in row velocity_ratio of marble-drop"))
 
     fits: list[FitRow] = []
     ident: list[dict] = []

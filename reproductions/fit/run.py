@@ -12,7 +12,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import InputError
-from ..series import header_names
+from ..series import header_names, read_text
 from .checks import check_g, finish
 from .kinds import KINDS, Kind
 from .kinds.ballball import fit_ballball
@@ -62,10 +62,9 @@ def fit_csv(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     """Fit the file at ``path`` with the estimator of ``kind``."""
     if kind not in KINDS:
         raise InputError(f"kind '{kind}'", f"expected one of {', '.join(KINDS)}")
-    if path.is_dir():
-        raise InputError(str(path), "is a folder: expected a CSV file")
-    if not path.is_file():
+    if not path.exists() and not path.is_symlink():
         raise InputError(str(path), "no such file")
+    read_text(path)  # a folder, a FIFO, a device, a file too large or not UTF-8 text: refused before any parsing
     other = other_kinds(kind, path)
     if other is not None:
         them = " or ".join(f"`resal fit {k}`" for k in other[1])

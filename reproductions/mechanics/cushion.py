@@ -15,7 +15,8 @@ turns while it slows. With φ = φ0 U^(1+k), ψ = ψ0 U^k (0 ≤ U ≤ 1),
 
 (an exact closed form of Résal's integral (10), which he judged impractical). The slip stops during the
 impact iff j(1 + ν)a ≥ H(1) (both φ and ψ reach 0 together; the contact then needs no friction); otherwise
-U1 solves H(U1) = H(1) − j(1 + ν)a, found by bisection (H is monotone). Then φ1, ψ1 as above and eq. (9):
+U1 solves H(U1) = H(1) − j(1 + ν)a, found by Newton's method on ln H (``slip.slip_decay``; H is monotone).
+Then φ1, ψ1 as above and eq. (9):
 χ1 = (kχ0 + p0R + φ1)/(1 + k), p1R = χ1 − φ1, n1R = ψ1.
 
 Special cases with elementary closed forms: no rotation about Ox (ψ0 = 0, the paper's n0 = 0): the slip
@@ -136,7 +137,7 @@ def _ode(chi0: np.ndarray, pR0: np.ndarray, nR0: np.ndarray, k: np.ndarray, j: n
 def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLike, *, R: ArrayLike,
                    k: ArrayLike, j: ArrayLike, eps: ArrayLike, method: str = "exact", rtol: float = 1e-11,
                    solver: str = "DOP853") -> CushionImpact:
-    """The cushion impact of §IV by the chosen path (module docstring): ``exact`` (₂F₁ and bisection, every
+    """The cushion impact of §IV by the chosen path (module docstring): ``exact`` (₂F₁ and Newton's method, every
     scene), ``elementary`` (only where ``elementary_applies``), ``resal``, ``resal-corrected``, ``ode``.
     ``registry`` chooses per scene for ``auto``."""
     if method not in METHODS:
@@ -151,7 +152,7 @@ def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLi
     budget = j * (1 + nu) * a
     if method == "exact":
         f1, s1 = _exact(f0, s0, k, budget)
-        label = "closed form (₂F₁ and bisection)"
+        label = "closed form (₂F₁ and Newton's method)"
     elif method == "elementary":
         if not np.all(elementary_applies(chi0, p0, n0, R, j)):
             raise ValueError("the elementary cushion form handles only n0 = 0, φ0 = χ0 − p0R = 0 or j = 0")

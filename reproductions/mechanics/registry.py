@@ -615,7 +615,7 @@ def _build() -> dict[str, Model]:
                  "the slip keeps its direction: linear decay", handles=_cushion_elementary,
                  handles_text="n0 = 0, φ0 = χ0 − p0R = 0 or j = 0 (otherwise the slip turns)"),
             Path(PathCode.EXACT, Kind.EXACT_NUMERICAL, _cushion("exact"), always, 1e-12, 3,
-                 "Résal's integral (10) in closed form (₂F₁), its end by bisection"),
+                 "Résal's integral (10) in closed form (₂F₁), its end by Newton's method"),
             Path(PathCode.RESAL, Kind.AS_PRINTED, _cushion("resal"), _cushion_resal_exact, 1e-12, 1,
                  "eq. (11) as printed, exponent (1 + k)/2"),
             Path(PathCode.RESAL_CORRECTED, Kind.CORRECTED, _cushion("resal-corrected"), _cushion_resal_exact,
