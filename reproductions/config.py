@@ -443,7 +443,11 @@ def _printed(node: Node, quantities: tuple[str, ...]) -> Printed:
     text = node.string("text")
     if node.has("value") and _construct(node._mapping()["value"], node.file, f"{node.path}.value") is not None:
         value, exact, raw, _ = node.number_node("value", "a number or a fraction such as 4/15")
-        tol, rule = _tolerance(value, exact, raw)
+        try:
+            tol, rule = _tolerance(value, exact, raw)
+        except OverflowError:  # 0e400: a zero whose printed exponent no tolerance can follow
+            raise node.fail(f"'{node.path}.value' {shorten(raw)}: expected a number as the paper prints it (an "
+                            "exponent within ±300)", node._mapping()["value"]) from None
     else:
         node._used.add("value")
         value, tol, rule = None, None, "no printed number"

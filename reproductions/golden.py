@@ -106,8 +106,11 @@ def read_summary(path: Path) -> dict[str, Any]:
     where = str(path)
     text = decode_text(read_input(path, "a summary.json file", MAX_SUMMARY_BYTES), where, "a summary.json file",
                        max_line=None)
+    def no_constant(name: str) -> Any:  # resal writes strict JSON: NaN and ±Infinity are no number it wrote
+        raise InputError(where, f"not a summary.json file: {name} is not a JSON number (resal writes strict JSON)")
+
     try:
-        obj = json.loads(text)
+        obj = json.loads(text, parse_constant=no_constant)
     except json.JSONDecodeError as exc:
         raise InputError(f"{where}:{exc.lineno}", f"not a summary.json file ({exc.msg}, column {exc.colno})") from None
     except RecursionError:

@@ -11,8 +11,10 @@ from reproductions.experiments import cue as X
 from reproductions.mechanics import cue, reference
 
 EXPECTED = {
-    "reproduced": {"angle_high", "eq1", "eq2_repaired", "eq4", "eq5_repaired", "eq5_own", "eq6", "eq7", "eq7_full_q",
-                   "eq7_repaired", "eqa", "eq8_original", "eq8_repaired", "eqb", "eqc", "eps_n5_decimal",
+    "reproduced": {"angle_high", "eq1", "eq2_original", "eq2_repaired", "eq3_original", "eq4", "eq5_repaired",
+                   "eq5_own", "eq6", "eq7", "eq7_full_q",
+                   "eq7_n1_original", "eq7_repaired", "eqa", "eq8_original", "eq8_repaired", "eqb", "eqc",
+                   "eps_n5_original", "eps_n5_decimal",
                    "eq9p_corrected", "eq10_original", "normal_velocity", "normal_velocity_7", "eq12",
                    "criterion_derived", "criterion_repaired"},
     "differs": {"cone": "assumption", "angle_low": "rounding", "eq2": "ocr", "eq2_moment": "repair", "eq3": "ocr",
@@ -118,3 +120,14 @@ def test_assumptions_grip_cone_and_energy(run):
     # (8) as most likely printed fits Résal's own eqs (2), not the full-moment mechanics; repaired, it does
     assert k["eq8_full_moment"] > 0.01 and k["eq8_repaired"] < 1e-6
     assert round(k["eq8_ref_original"], 3) == 4.082 and round(k["eq8_ref_full"], 3) == 4.011
+
+
+def test_every_ocr_row_stands_beside_its_likely_original(run):
+    rows, _, _ = run
+    for ocr, original in (("eq2", "eq2_original"), ("eq3", "eq3_original"), ("eq7_n1", "eq7_n1_original"),
+                          ("eps_n5", "eps_n5_original"), ("criterion", "criterion_derived")):
+        assert rows[ocr].reason == "ocr" and rows[original].verdict == "reproduced", ocr
+        assert rows[ocr].line == rows[original].line, ocr
+        assert f"row {original}" in rows[ocr].note, ocr
+    assert rows["eq7_n1"].computed > 0.1 > 1e-6 > rows["eq7_n1_original"].computed
+    assert rows["eps_n5_original"].computed == pytest.approx(4 / 15, rel=1e-12) == rows["eps_n5_original"].printed

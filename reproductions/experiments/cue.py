@@ -18,7 +18,8 @@ from ..config import Experiment, Node
 from ..mechanics import cloth, cue, impact, reference
 from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
 
-QUANTITIES = ("eq5_full_moment", "eq5_own_moment", "eq7_own_moment", "eq7_n1_as_printed", "energy_resal",
+QUANTITIES = ("eq5_full_moment", "eq5_own_moment", "eq7_own_moment", "eq7_n1_as_printed", "eq7_n1_original",
+              "energy_resal",
               "energy_resal_beyond", "central_stroke", "friction_angle_high", "friction_angle_low", "epsp_cue",
               "criterion_as_printed", "criterion_derived")
 MODERN = ("e_tip", "mu_tip", "m_ball/m_cue")
@@ -89,7 +90,8 @@ def _random_strokes(seed: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarr
 def checks(p: Params, seed: int, epsp: float) -> dict[str, float]:
     R, k, M = p.R, p.k, p.M
     i, bR, cR, f = _random_strokes(seed, 16)
-    worst = {"eq5_full_moment": 0.0, "eq5_own_moment": 0.0, "eq7_own_moment": 0.0, "eq7_n1_as_printed": 0.0}
+    worst = {"eq5_full_moment": 0.0, "eq5_own_moment": 0.0, "eq7_own_moment": 0.0, "eq7_n1_as_printed": 0.0,
+             "eq7_n1_original": 0.0}
     for ii, b, c, ff in zip(i, bR * R, cR * R, f, strict=True):
         P = 0.5
         for full in (True, False):
@@ -114,6 +116,8 @@ def checks(p: Params, seed: int, epsp: float) -> dict[str, float]:
             err = np.abs(printed - y) * scale
             worst["eq7_own_moment"] = max(worst["eq7_own_moment"], float(np.max(err[[0, 1, 3, 4]])))
             worst["eq7_n1_as_printed"] = max(worst["eq7_n1_as_printed"], float(err[2]))
+            n1_original = -(k / R**2) * mu * (b + ff * R * sg) * si * P  # n1 as most likely printed in 1883
+            worst["eq7_n1_original"] = max(worst["eq7_n1_original"], float(abs(n1_original - y[2]) * R / (P / M)))
     # energy: Résal's eq. (12) against the vis viva, over many random off-centre strokes
     i, bR, cR, f = _random_strokes(seed + 1, 4000)
     gains = {}
@@ -167,7 +171,12 @@ def run(exp: Experiment) -> Reproduction:
         f"{math.degrees(c['eq5_full_moment']):.1f}°"))
     computed["eq7_n1_as_printed"] = Computed(c["eq7_n1_as_printed"], how, lambda _p: (
         "eq. (2) integrates to R²n1/k = −μ(b + fR sin γ) sin i ω1; the printed −μ(b + fR cos γ sin i) ω1 has "
-        "cos γ for sin γ and b without sin i (a slip of the original or of the transcription)"))
+        "cos γ for sin γ and b without sin i (a slip of the original or of the transcription); the likely original "
+        "is graded in row eq7_n1_original"))
+    computed["eq7_n1_original"] = Computed(c["eq7_n1_original"], (
+        "R²n1/k = −μ(b + fR sin γ) sin i ω1, the likely original of the digitised line n1 of eqs (7) (eq. 3 "
+        "integrated with γ constant), against the integration of Résal's own eqs (2) over the random sliding strokes "
+        "(relative to μω1)"))
     cone = f"φ ≤ {math.degrees(float(cue.miscue_angle(max(p.tip_friction)))):.2f}°"
     computed["energy_resal"] = Computed(c["energy_resal"], (
         "largest relative gain of vis viva with eqs (10)-(12), over the random off-centre strokes (of 4000) whose cue "
@@ -210,7 +219,8 @@ def run(exp: Experiment) -> Reproduction:
         "of χ1"), lambda _p: (
         f"the printed « cos γ ≶ f cos i » disagrees with the sign of χ1 (first of eqs 7) on "
         f"{c['criterion_as_printed']:.0%} of the grid; the first of eqs (7) gives direct motion iff "
-        f"f cos γ tan i < 1, which never disagrees (row below): the printed criterion is garbled"))
+        f"f cos γ tan i < 1, which never disagrees: the printed criterion is garbled; its likely original, "
+        f"cos i ≷ f cos γ sin i, is graded in row criterion_derived"))
     computed["criterion_derived"] = Computed(c["criterion_derived"], (
         "cos i ≷ f cos γ sin i (f cos γ tan i ≶ 1, the first of eqs 7) against the sign of χ1 of Résal's own eqs (2) "
         "on the grid's sliding strokes: it never disagrees. But no sliding stroke of his own equations is retrograde "
@@ -310,14 +320,15 @@ def _figure_region(p: Params, epsp: float) -> FigureSpec:
 
 
 # ---- n°14 claim by claim (issue 13): each printed line against an independent computation ----------------------
-CLAIMS = ("eq1_slip", "eq2_as_digitised", "eq2_moment_y", "eq2_repaired", "eq3_as_digitised", "eq4_constant",
+CLAIMS = ("eq1_slip", "eq2_as_digitised", "eq2_original", "eq2_moment_y", "eq2_repaired", "eq3_as_digitised",
+          "eq3_original", "eq4_constant",
           "eq5_repaired", "eq7_grip", "eq7_full_chi", "eq7_full_eta", "eq7_full_n", "eq7_full_p", "eq7_full_q",
           "eq7_repaired", "eq6_definition", "eqa_lost", "eq8_as_digitised", "eq8_original", "eq8_full_moment",
           "eq8_repaired", "eqb_ball", "eqc_cue",
           "eqd_as_printed", "eq9_as_printed", "eq9p_as_printed", "eq9p_corrected", "eq10_as_digitised",
           "eq10_original", "eq11_as_printed", "eq_normal_velocity", "eq_normal_velocity_7", "eq12_as_derived",
-          "cone_no_slip", "criterion_full", "criterion_repaired", "eps_n5_fraction", "eps_n5_decimal",
-          "mu_ratio", "tip_friction_range", "f_cloth")
+          "cone_no_slip", "criterion_full", "criterion_repaired", "eps_n5_fraction", "eps_n5_original",
+          "eps_n5_decimal", "mu_ratio", "tip_friction_range", "f_cloth")
 
 
 def _scenes(seed: int, n: int, p: Params, *, slides: bool, full: bool, i_max_deg: float = 80.0) -> list[tuple]:
@@ -601,7 +612,7 @@ def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
     out["retro_own_share"] = float(np.mean(own_per["v"][0][own_per["slides"]] < 0))
     # the footnote of n°14: n°5's equation 1 + ε + 3(1 + ε′) = 24/5 with ε = 0 gives ε′ (its own labels)
     D = float(impact.denominator_from_struck_ratio(p.mass_ratio_n5, p.ratio_struck_n5))  # M′(1+ε)+M(1+ε′) over M′
-    out["eps_n5_fraction"] = out["eps_n5_decimal"] = (D - 1.0) / p.mass_ratio_n5 - 1.0
+    out["eps_n5_fraction"] = out["eps_n5_original"] = out["eps_n5_decimal"] = (D - 1.0) / p.mass_ratio_n5 - 1.0
     return out
 
 
@@ -632,7 +643,11 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
         "eq2_as_digitised": Computed(k["eq2_as_digitised"], "largest discrepancy per unit F from Newton–Euler", why(
             "the digitised second line reads « M dη/dt = F(cos i − f v_x/v cos i) » and the fourth « dv/dt »; the 1883 "
             "text most likely had M dχ/dt = F(cos i − f (v_x/v) sin i) and M R²/k dn/dt (as eqs 3 use): with these "
-            f"the lines agree with Newton–Euler to {k['eq2_original']:.0e}")),
+            f"the lines agree with Newton–Euler to {k['eq2_original']:.0e} (row eq2_original)")),
+        "eq2_original": Computed(k["eq2_original"], (
+            "eqs (2) as most likely printed in 1883, M dχ/dt = F(cos i − f (v_x/v) sin i) and M R²/k dn/dt = "
+            "−F(b + f (v_y/v) R) sin i with the other lines as digitised: the forces along Cx, Cy and the moments "
+            "about Cx, Cz per unit F against Newton–Euler (largest discrepancy; the moment about Cy: row eq2_moment)")),
         "eq2_moment_y": Computed(k["eq2_moment_y"], "moment about Cy per unit F R against r × d", why(
             "the moment of F about Cy is F(c cos i + a sin i + f (v_x/v) R sin i): the printed line omits F a sin i "
             f"(up to {k['eq2_moment_y']:.2f} F R); method 'exact' restores it (repair; next row)")),
@@ -643,7 +658,11 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
         "eq3_as_digitised": Computed(k["eq3_as_digitised"], "eqs (2) divided by M′dV′ = −F dt, line by line", why(
             "the fourth line has « + μ(c cos i + f v_x/v R sin i) dV′ »: with M′dV′ = −F dt it is −μ(…) dV′, the sign "
             "that (5) and (7) use (with the plus sign the friction terms of (5) do not cancel); likely an OCR slip. "
-            f"With −μ the lines agree to {k['eq3_original']:.0e}")),
+            f"With −μ the lines agree to {k['eq3_original']:.0e} (row eq3_original)")),
+        "eq3_original": Computed(k["eq3_original"], (
+            "eqs (3) as most likely printed in 1883, the fourth line R²/k dp = −μ(c cos i + f (v′_x/v) R sin i) dV′, "
+            "against eqs (2) divided by M′dV′ = −F dt with Résal's moment about Cy, line by line (largest "
+            "discrepancy)")),
         "eq4_constant": Computed(k["eq4_constant"], (
             "largest change of the slip direction atan2(η + nR, χ − pR) over the stroke (P/P1 = 0.05 … 1), sliding "
             "strokes, Résal's eqs (2) and the full moment (radians)")),
@@ -728,6 +747,9 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
         "criterion_repaired": Computed(k["criterion_repaired"], "the same with γ of the repaired (5)"),
         "eps_n5_fraction": Computed(k["eps_n5_fraction"], "n°5: 1 + ε + 3(1 + ε′) = 24/5 with ε = 0", why(
             f"n°5 gives ε′ = 4/15 = {k['eps_n5_fraction']:.4f}; « 1/14 » is an OCR slip of « 4/15 » (0,27 follows "
-            "from 4/15, not from 1/14 = 0,071)")),
+            "from 4/15, not from 1/14 = 0,071); the likely original is graded in row eps_n5_original")),
+        "eps_n5_original": Computed(k["eps_n5_original"], (
+            "ε′ = 4/15, the likely original of the digitised « 1/14 », against n°5's equation 1 + ε + 3(1 + ε′) = 24/5 "
+            "with ε = 0 (Coriolis's data)")),
         "eps_n5_decimal": Computed(k["eps_n5_decimal"], "4/15 from n°5's equation with ε = 0"),
     }

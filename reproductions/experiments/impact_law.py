@@ -257,7 +257,8 @@ def run(exp: Experiment) -> Reproduction:
                  "('Σ m U cos(U, u) u dt'); as digitised it is not even homogeneous (a momentum against a work), "
                  "the likely original, with u, is eq. (2)'s step and holds (row eq2)")),
         "eq2": Computed(mol["eq2"], how_mol + "; rigid motion at the greatest compression, contact and central "
-                                              "internal impulses, tangential impulses of either sign"),
+                                              "internal impulses, tangential ones of at most 0.3 times the normal "
+                                              "one, opposing the slip"),
         "premise_opposite_in": Computed(
             float(np.max(angle[frictionless_or_sliding])),
             f"largest angle (rad) between φ1 and −φ0 over the ball's molecules in the "
