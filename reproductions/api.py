@@ -35,7 +35,7 @@ from .fit.kinds import KINDS as FIT_KINDS
 from .fit.kinds import MAX_RESAMPLES
 from .mechanics import paths, registry
 from .mechanics.paths import PathCode, Regime
-from .models import NOT_COMPUTED, OUTPUTS
+from .models import NOT_COMPUTED, OUTPUTS, solve_scene
 from .models import degrees as to_degrees
 from .results import Reproduction
 
@@ -407,25 +407,14 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
                                              f"measured value, e.g. {missing[0]}=…)")
     given = f"simulate('{model}', " + ", ".join(_value_text(k, np.asarray(v)) for k, v in scene.items()) + ")"
     try:
-        with np.errstate(all="ignore"):
-            try:
-                full = m.scene(values)
-            except paths.PathError:
-                raise
-            except ValueError:
-                shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in values.items())
-                raise InputError(given, f"the arrays do not broadcast to one batch of scenes ({shapes})") from None
-            bad_in = [n for n, v in full.items() if not np.all(np.isfinite(np.asarray(v, dtype=float)))]
-            if bad_in:
-                raise InputError(given, f"the scene's input {bad_in[0]} is not finite (it overflows): expected "
-                                        "values of a physical size")
-            res = paths.solve(m, full, method)
+        with np.errstate(all="ignore"):  # an overflow is reported by solve_scene, as one message
+            full = m.scene(values)
     except paths.PathError as err:
-        where = f"method '{method}'" if method != "auto" and "handles only" in str(err) else given
-        raise InputError(where, str(err)) from None
-    except ArithmeticError as err:
-        raise ComputationError(given, f"the {method} computation failed ({err}); this scene is valid input, so "
-                                      "this is a defect of resal: please report this call") from None
+        raise InputError(given, str(err)) from None
+    except ValueError:
+        shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in values.items())
+        raise InputError(given, f"the arrays do not broadcast to one batch of scenes ({shapes})") from None
+    res = solve_scene(m, full, method, given, f"method '{method}'", "call")
     path = np.asarray(res.path)
     units = {p.name: _scene_param(p).unit for p in m.params}
     outputs = {}

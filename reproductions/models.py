@@ -16,7 +16,7 @@ from .config import parse_number
 from .errors import ComputationError, InputError
 from .mechanics import paths, registry
 
-__all__ = ["NOT_COMPUTED", "OUTPUTS", "degrees", "describe", "list_models", "simulate"]
+__all__ = ["NOT_COMPUTED", "OUTPUTS", "degrees", "describe", "list_models", "simulate", "solve_scene"]
 
 
 def _cli(p: paths.Param, value: float | None) -> float | None:
@@ -155,6 +155,27 @@ def _finite(v: Any) -> bool:
     return not isinstance(v, float) or math.isfinite(v)
 
 
+def solve_scene(m: paths.Model, scene: paths.Scene, method: str, given: str, method_where: str,
+                report: str) -> Any:
+    """``paths.solve`` on a scene a user gave (``resal simulate`` and ``api.simulate``), its failures as they are
+    told: an input that overflows and a path asked outside its region are ``InputError`` (at ``given``, or at
+    ``method_where`` for the path), a solver failing on an admissible scene a ``ComputationError`` (ours to fix:
+    "please report this ``report``")."""
+    try:
+        with np.errstate(all="ignore"):  # an overflow is reported here, as one message, not as a warning
+            bad_in = [n for n, v in scene.items() if not np.all(np.isfinite(np.asarray(v, dtype=float)))]
+            if bad_in:
+                raise InputError(given, f"the scene's input {bad_in[0]} is not finite (it overflows): expected "
+                                        "values of a physical size")
+            return paths.solve(m, scene, method)
+    except paths.PathError as err:
+        where = method_where if method != "auto" and "handles only" in str(err) else given
+        raise InputError(where, str(err)) from None
+    except ArithmeticError as err:  # a solver failed on an admissible scene: ours to fix, said plainly
+        raise ComputationError(given, f"the {method} computation failed ({err}); this scene is valid input, so "
+                                      f"this is a defect of resal: please report this {report}") from None
+
+
 def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[str, Any]:
     """Run one scene; ``assignments`` are ``name=value`` strings. Raises ``InputError`` on bad input."""
     if model not in registry.MODELS:
@@ -173,19 +194,11 @@ def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[s
                                   f"value, e.g. --set {missing[0]}=…)")
     given = " ".join(f"--set {a}" for a in assignments) or f"model '{model}'"
     try:
-        with np.errstate(all="ignore"):  # an overflow is reported below, as one message, not as a warning
+        with np.errstate(all="ignore"):  # an overflow is reported by solve_scene, as one message, not a warning
             scene = m.scene(values)
-            bad_in = [n for n, v in scene.items() if not np.all(np.isfinite(np.asarray(v, dtype=float)))]
-            if bad_in:
-                raise InputError(given, f"the scene's input {bad_in[0]} is not finite (it overflows): expected "
-                                        "values of a physical size")
-            res = paths.solve(m, scene, method)
     except paths.PathError as err:
-        where = f"--method {method}" if method != "auto" and "handles only" in str(err) else given
-        raise InputError(where, str(err)) from None
-    except ArithmeticError as err:  # a solver failed on an admissible scene: ours to fix, said plainly
-        raise ComputationError(given, f"the {method} computation failed ({err}); this scene is valid input, so "
-                                      "this is a defect of resal: please report this command") from None
+        raise InputError(given, str(err)) from None
+    res = solve_scene(m, scene, method, given, f"--method {method}", "command")
     inputs = {p.name: _plain(_cli(p, float(scene[p.name])) if p.name not in m.vectors else scene[p.name])
               for p in m.params}
     skip = {"method", "path", "regime", "label"}
