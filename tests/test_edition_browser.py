@@ -9,6 +9,7 @@ import os
 import re
 import shutil
 from collections import Counter
+from contextlib import contextmanager
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
@@ -43,20 +44,24 @@ def edition(reproduced_all):
     return out, rows
 
 
+@contextmanager
 def _open(browser, out: Path, width: int = 1280, scripts: bool = True):
+    """(page, console errors) of index.html in a fresh browser context, closed on leaving."""
     ctx = browser.new_context(viewport={"width": width, "height": 900}, java_script_enabled=scripts)
     page = ctx.new_page()
     errors: list[str] = []
     page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
     page.on("pageerror", lambda e: errors.append(str(e)))
     page.goto((out / "index.html").as_uri(), wait_until="load")
-    return ctx, page, errors
+    try:
+        yield page, errors
+    finally:
+        ctx.close()
 
 
 def test_every_row_once_figures_loaded_no_console_error(browser, edition, tmp_path):
     out, rows = edition
-    ctx, page, errors = _open(browser, out)
-    try:
+    with _open(browser, out) as (page, errors):
         ids = page.eval_on_selector_all("article.row", "els => els.map(e => e.id)")
         expected = [f"{r['experiment']}--{r['id']}" for r in rows]
         assert Counter(ids) == Counter(expected), "rows of paper-table.csv missing or repeated in index.html"
@@ -70,19 +75,14 @@ def test_every_row_once_figures_loaded_no_console_error(browser, edition, tmp_pa
         page.screenshot(path=str(shot))
         assert shot.stat().st_size > 10_000
         SCREENSHOTS.append(str(shot))
-    finally:
-        ctx.close()
 
 
 def test_every_local_link_resolves(browser, edition):
     out, _ = edition
-    ctx, page, _ = _open(browser, out)
-    try:
+    with _open(browser, out) as (page, _):
         links = page.eval_on_selector_all("a[href], img[src]", "els => els.map(e => e.getAttribute('href') || "
                                                                "e.getAttribute('src'))")
         ids = set(page.eval_on_selector_all("[id]", "els => els.map(e => e.id)"))
-    finally:
-        ctx.close()
     broken = []
     for link in links:
         u = urlparse(link)
@@ -97,8 +97,7 @@ def test_every_local_link_resolves(browser, edition):
 
 def test_each_filter_shows_exactly_what_it_names(browser, edition):
     out, rows = edition
-    ctx, page, errors = _open(browser, out)
-    try:
+    with _open(browser, out) as (page, errors):
         assert page.is_visible("#filters")
         key = {"verdict": lambda r: r["verdict"], "reason": lambda r: r["reason"] or "none",
                "section": lambda r: re.match(r"§[IVXLC]+", r["section"]).group(0)}  # a section of the paper
@@ -130,44 +129,33 @@ def test_each_filter_shows_exactly_what_it_names(browser, edition):
         assert page.is_visible(f"[id='{target}']")
         assert page.eval_on_selector("#f-verdict", "e => e.value") == ""
         assert errors == []
-    finally:
-        ctx.close()
 
 
 def test_without_scripts_everything_is_shown(browser, edition):
     out, rows = edition
-    ctx, page, _ = _open(browser, out, scripts=False)
-    try:
+    with _open(browser, out, scripts=False) as (page, _):
         assert page.eval_on_selector_all("article.row", "els => els.filter(e => e.offsetParent !== null).length") \
             == len(rows)
         assert not page.is_visible("#filters"), "filters that cannot work without scripts are hidden"
-    finally:
-        ctx.close()
 
 
 def test_a_phone_wide_screen_needs_no_sideways_scrolling(browser, edition):
     out, _ = edition
-    ctx, page, _ = _open(browser, out, width=375)
-    try:
+    with _open(browser, out, width=375) as (page, _):
         wide = page.evaluate("() => [document.documentElement.scrollWidth, document.documentElement.clientWidth]")
         assert wide[0] <= wide[1], f"page {wide[0]} px wide in a {wide[1]} px window"
         over = page.eval_on_selector_all(
             "body *", "els => els.filter(e => e.getBoundingClientRect().right > "
                       "document.documentElement.clientWidth + 1).map(e => e.tagName + '#' + e.id).slice(0, 5)")
         assert over == []
-    finally:
-        ctx.close()
 
 
 def test_the_first_screen_is_the_findings(browser, edition):
     out, _ = edition
-    ctx, page, _ = _open(browser, out)
-    try:
+    with _open(browser, out) as (page, _):
         top = page.eval_on_selector("#findings", "e => e.getBoundingClientRect().top")
         assert top < 900, "the findings begin below the first screen"
         items = page.eval_on_selector_all("#findings li", "els => els.length")
         assert items >= 10
         headings = page.eval_on_selector_all("h1", "els => els.length")
         assert headings == 1
-    finally:
-        ctx.close()
