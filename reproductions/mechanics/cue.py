@@ -34,6 +34,7 @@ Where this departs from the printed text (``method="resal"`` keeps Résal's choi
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -41,9 +42,10 @@ from numpy.typing import ArrayLike
 __all__ = ["CueStroke", "ball_point_velocity", "contact_point", "cue_axis", "cue_moment", "cue_stroke", "miscue_angle",
            "stroke_per_impulse"]
 
-from .paths import PathCode, Regime, codes
+from .paths import PathCode, Regime, as_floats, batch_arrays, codes, pick
 
 METHODS = ("exact", "resal")
+_REGIMES = np.array([Regime.GRIP, Regime.SLIDE], dtype=np.int8)  # by whether the ball slides on the cloth
 
 
 @dataclass(frozen=True)
@@ -69,7 +71,7 @@ class CueStroke:
 
 def contact_point(b: ArrayLike, c: ArrayLike, R: ArrayLike) -> np.ndarray:
     """a of the contact point (a, b, c) on the back of the ball: a = −√(R² − b² − c²)."""
-    b, c, R = (np.asarray(x, dtype=float) for x in (b, c, R))
+    b, c, R = as_floats(b, c, R)
     return -np.sqrt(np.maximum(R * R - b * b - c * c, 0.0))
 
 
@@ -81,27 +83,39 @@ def miscue_angle(f_tip: ArrayLike) -> np.ndarray:
 def stroke_per_impulse(i: ArrayLike, b: ArrayLike, c: ArrayLike, *, R: ArrayLike, k: ArrayLike, f: ArrayLike,
                        M: ArrayLike, method: str = "exact") -> dict[str, np.ndarray]:
     """Velocity, rotation and slip of the ball per unit cue impulse P (eqs 3, 5, 7), arrays over the batch."""
+    per = _per_impulse(i, b, c, R=R, k=k, f=f, M=M, method=method)
+    return {"a": per["a"], "v": np.stack(per["v"]), "w": np.stack(per["w"]), "u": np.stack(per["u"]),
+            "gamma": per["gamma"], "slides": per["slides"], "cos_phi": per["cos_phi"], "d_K_d": per["d_K_d"]}
+
+
+def _per_impulse(i: ArrayLike, b: ArrayLike, c: ArrayLike, *, R: ArrayLike, k: ArrayLike, f: ArrayLike,
+                 M: ArrayLike, method: str) -> dict[str, Any]:
+    """``stroke_per_impulse`` with the vectors as tuples of their components (eqs 3, 5, 7), which ``cue_stroke``
+    reads without stacking them; the products of vectors written out as ``np.cross`` computes them."""
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    i, b, c, R, k, f, M = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (i, b, c, R, k, f, M)))
+    i, b, c, R, k, f, M = batch_arrays(i, b, c, R, k, f, M)
     a = contact_point(b, c, R)
     si, ci = np.sin(i), np.cos(i)
-    tau = np.stack([-b * si, c * ci + (0.0 if method == "resal" else a * si), -b * ci])
-    D = np.stack([ci - (k / R) * tau[1], (k / R) * tau[0]])
+    tau = (-b * si, c * ci + (0.0 if method == "resal" else a * si), -b * ci)  # the moment of F about C, eq. (2)
+    kR = k / R
+    D = (ci - kR * tau[1], kR * tau[0])
     Dn = np.hypot(D[0], D[1])
-    Dhat = D / np.where(Dn > 0, Dn, 1.0)
+    safe = pick(Dn > 0, Dn, 1.0)
     fric = f * si
     slides = Dn > (1 + k) * fric
-    j = np.where(slides, fric, Dn / (1 + k)) * Dhat  # the cloth's friction impulse per unit P
-    v = np.stack([ci - j[0], -j[1]]) / M
-    w = (k / (M * R * R)) * (tau + R * np.stack([-j[1], j[0], np.zeros_like(j[0])]))
-    u = (D - (1 + k) * j) / M
-    r = np.stack([a, b, c])
-    d = np.stack([ci, np.zeros_like(ci), -si])
-    v3 = np.stack([v[0], v[1], np.zeros_like(v[0])])
-    contact = v3 + np.cross(w, r, axis=0)  # velocity of the ball's point of contact with the cue, per unit P
+    jn = pick(slides, fric, Dn / (1 + k))
+    j = (jn * (D[0] / safe), jn * (D[1] / safe))  # the cloth's friction impulse per unit P
+    v = ((ci - j[0]) / M, -j[1] / M)
+    zero = np.zeros_like(j[0])
+    kI = k / (M * R * R)
+    w = (kI * (tau[0] + R * -j[1]), kI * (tau[1] + R * j[0]), kI * (tau[2] + R * zero))
+    u = ((D[0] - (1 + k) * j[0]) / M, (D[1] - (1 + k) * j[1]) / M)
+    # velocity of the ball's point of contact with the cue per unit P, (v, 0) + w × (a, b, c), along d
+    contact = (v[0] + (w[1] * c - w[2] * b), v[1] + (w[2] * a - w[0] * c), zero + (w[0] * b - w[1] * a))
+    d_K_d = contact[0] * ci + contact[1] * zero + contact[2] * -si
     return {"a": a, "v": v, "w": w, "u": u, "gamma": np.arctan2(D[1], D[0]), "slides": slides,
-            "cos_phi": -(a * ci - c * si) / R, "d_K_d": (contact * d).sum(axis=0)}
+            "cos_phi": -(a * ci - c * si) / R, "d_K_d": d_K_d}
 
 
 def cue_stroke(M: ArrayLike, Mp: ArrayLike, V0p: ArrayLike, i: ArrayLike, b: ArrayLike, c: ArrayLike, *,
@@ -109,11 +123,11 @@ def cue_stroke(M: ArrayLike, Mp: ArrayLike, V0p: ArrayLike, i: ArrayLike, b: Arr
                method: str = "exact") -> CueStroke:
     """The stroke of §VII n°14 (module docstring): ``exact`` or ``resal`` (as printed)."""
     path = method
-    per = stroke_per_impulse(i, b, c, R=R, k=k, f=f, M=M, method=path)
-    M, Mp, V0p, R, k, eps, epsp = np.broadcast_arrays(*(np.asarray(x, dtype=float)
-                                                         for x in (M, Mp, V0p, R, k, eps, epsp)))
+    per = _per_impulse(i, b, c, R=R, k=k, f=f, M=M, method=path)
+    M, Mp, V0p, R, k, eps, epsp = batch_arrays(M, Mp, V0p, R, k, eps, epsp)
     v, w = per["v"], per["w"]
-    Q = M * (v[0] ** 2 + v[1] ** 2) + (M * R * R / k) * (w**2).sum(axis=0)  # ball vis viva per P²
+    # the ball's vis viva per P² (x * x: what numpy computes for x**2)
+    Q = M * (v[0] * v[0] + v[1] * v[1]) + (M * R * R / k) * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
     A = 1.0 + Mp * Q
     if path == "resal":  # eq. (12): equal velocities along the normal at the greatest compression
         n_hat_dot_v = (per["a"] * v[0] + np.asarray(b, dtype=float) * v[1]) / R
@@ -125,10 +139,10 @@ def cue_stroke(M: ArrayLike, Mp: ArrayLike, V0p: ArrayLike, i: ArrayLike, b: Arr
     label = ("Résal's eqs (2)-(12) as printed (moment about Cy without a sin i; compression ended along the "
              "normal)" if path == "resal" else
              "closed form, §VII eqs (2)-(10) with the full moment of F, compression ended along the cue axis")
-    regime = np.where(per["slides"], Regime.SLIDE, Regime.GRIP).astype(np.int8)
+    regime = np.asarray(_REGIMES[per["slides"].astype(np.intp)])
     return CueStroke(chi1=P * v[0], eta1=P * v[1], n1=P * w[0], p1=P * w[1], q1=P * w[2], V1p=V0p - omega1,
                      omega1=omega1, omega=omega, A=A, gamma=per["gamma"], cos_phi=per["cos_phi"], method=method,
-                     path=codes(omega1.shape, PathCode[method.upper()]), regime=regime, label=label)
+                     path=codes(np.shape(omega1), PathCode[method.upper()]), regime=regime, label=label)
 
 
 def cue_axis(i: ArrayLike) -> np.ndarray:

@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike
 
 from .budget import bounded, check
 from .impact import nu_from_eps
-from .paths import PathCode, Regime, codes
+from .paths import PathCode, Regime, batch_arrays, codes, every, pick
 from .slip import slip_decay
 
 __all__ = ["METHODS", "CushionImpact", "cushion_impact", "elementary_applies"]
@@ -45,6 +45,7 @@ __all__ = ["METHODS", "CushionImpact", "cushion_impact", "elementary_applies"]
 METHODS = ("exact", "elementary", "resal", "resal-corrected", "ode")
 _CODES = {"exact": PathCode.EXACT, "elementary": PathCode.ELEMENTARY, "resal": PathCode.RESAL,
           "resal-corrected": PathCode.RESAL_CORRECTED, "ode": PathCode.ODE}
+_REGIMES = np.array([Regime.NO_SLIP, Regime.SLIDE, Regime.GRIP], dtype=np.int8)  # no slip, slips, slip stops
 
 
 @dataclass(frozen=True)
@@ -71,8 +72,8 @@ def elementary_applies(chi0: ArrayLike, p0: ArrayLike, n0: ArrayLike, R: ArrayLi
 def _elementary(phi0: np.ndarray, psi0: np.ndarray, k: np.ndarray, budget: np.ndarray) -> tuple[np.ndarray, ...]:
     """One slip component only (the module docstring's special cases): it falls linearly in π until it stops,
     at the rate j(1 + k) along the cushion (ψ0 = 0) or jk across it (φ0 = 0)."""
-    f1 = np.where(psi0 == 0, np.maximum(phi0 - (1 + k) * budget, 0.0), phi0)
-    s1 = np.where(phi0 == 0, np.maximum(psi0 - k * budget, 0.0), psi0)
+    f1 = pick(psi0 == 0, np.maximum(phi0 - (1 + k) * budget, 0.0), phi0)
+    s1 = pick(phi0 == 0, np.maximum(psi0 - k * budget, 0.0), psi0)
     return f1, s1
 
 
@@ -117,7 +118,8 @@ def _ode(chi0: np.ndarray, pR0: np.ndarray, nR0: np.ndarray, k: np.ndarray, j: n
         e0 = np.array([y0[0] - y0[1], y0[2]]) / np.hypot(y0[0] - y0[1], y0[2])
 
         def rhs(_pi: float, y: np.ndarray, kk: float = kk, jj: float = jj) -> list[float]:
-            phi, psi = y[0] - y[1], y[2]
+            c0, c1, psi = y.tolist()  # floats: numpy's scalars cost 3× more per right-hand side
+            phi = c0 - c1
             v = max(np.hypot(phi, psi), 1e-300)
             return [-jj * phi / v, kk * jj * phi / v, -kk * jj * psi / v]
 
@@ -142,8 +144,7 @@ def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLi
     ``registry`` chooses per scene for ``auto``."""
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    chi0, zeta0, p0, n0, R, k, j, eps = np.broadcast_arrays(
-        *(np.asarray(x, dtype=float) for x in (chi0, zeta0, p0, n0, R, k, j, eps)))
+    chi0, zeta0, p0, n0, R, k, j, eps = batch_arrays(chi0, zeta0, p0, n0, R, k, j, eps)
     nu = nu_from_eps(eps)
     a = -zeta0
     phi0, psi0 = chi0 - p0 * R, n0 * R
@@ -154,7 +155,7 @@ def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLi
         f1, s1 = _exact(f0, s0, k, budget)
         label = "closed form (₂F₁ and Newton's method)"
     elif method == "elementary":
-        if not np.all(elementary_applies(chi0, p0, n0, R, j)):
+        if not every((n0 == 0) | (phi0 == 0) | (j == 0)):  # ``elementary_applies``, φ0 = χ0 − p0R computed
             raise ValueError("the elementary cushion form handles only n0 = 0, φ0 = χ0 − p0R = 0 or j = 0")
         f1, s1 = _elementary(f0, s0, k, budget)
         label = "elementary closed form (the slip keeps its direction)"
@@ -172,9 +173,9 @@ def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLi
     phi1, psi1 = sphi * f1, spsi * s1
     chi1 = (k * chi0 + p0 * R + phi1) / (1 + k)  # eq. (9)
     moving = (f0 > 0) | (s0 > 0)
-    regime = np.where(~moving, Regime.NO_SLIP, np.where((f1 == 0) & (s1 == 0), Regime.GRIP, Regime.SLIDE))
+    regime = np.asarray(_REGIMES[moving.astype(np.intp) + (moving & (f1 == 0) & (s1 == 0))])  # none, slides, stops
     return CushionImpact(chi1=chi1, zeta1=nu * a, p1=(chi1 - phi1) / R, n1=psi1 / R, method=method,
-                         path=codes(chi1.shape, _CODES[method]), regime=regime.astype(np.int8), label=label)
+                         path=codes(np.shape(chi1), _CODES[method]), regime=regime, label=label)
 
 
 # ---- §IV n°11, the paper's steps checked one by one (issue 13) ---------------------------------------------

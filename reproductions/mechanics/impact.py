@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .paths import PathCode, Regime, codes
+from .paths import PathCode, Regime, as_floats, batch_arrays, codes
 
 __all__ = [
     "DirectImpact",
@@ -84,7 +84,7 @@ def vis_viva_loss(
 
 def denominator(M: ArrayLike, Mp: ArrayLike, eps: ArrayLike, epsp: ArrayLike) -> np.ndarray:
     """D = M′(1 + ε) + M(1 + ε′), the denominator of eqs (7)–(8), §I n°5."""
-    M, Mp, eps, epsp = (np.asarray(a, dtype=float) for a in (M, Mp, eps, epsp))
+    M, Mp, eps, epsp = as_floats(M, Mp, eps, epsp)
     return Mp * (1.0 + eps) + M * (1.0 + epsp)
 
 
@@ -92,23 +92,25 @@ def direct_impact(
     M: ArrayLike, Mp: ArrayLike, V0: ArrayLike, V0p: ArrayLike = 0.0, *, eps: ArrayLike, epsp: ArrayLike,
 ) -> DirectImpact:
     """Direct impact of M on M′, eq. (7) §I n°5 (eq. (8) when V0′ = 0), derived as in the module docstring."""
-    M, Mp, V0, V0p, eps, epsp = (np.asarray(a, dtype=float) for a in (M, Mp, V0, V0p, eps, epsp))
+    M, Mp, V0, V0p, eps, epsp = as_floats(M, Mp, V0, V0p, eps, epsp)
     D = denominator(M, Mp, eps, epsp)
     delta = 2.0 * Mp * (V0 - V0p) / D
     V1 = V0 - delta
     V1p = V0p + (M / Mp) * delta
-    lost = M * (V0**2 - V1**2) + Mp * (V0p**2 - V1p**2)
-    return DirectImpact(V1=V1, V1p=V1p, newton_e=newton_restitution(M, Mp, eps, epsp), vis_viva_lost=lost,
-                        method="exact", path=codes(V1.shape, PathCode.EXACT),
-                        regime=codes(V1.shape, Regime.FRICTIONLESS), label="closed form, §I eq. (7)")
+    lost = M * (V0 * V0 - V1 * V1) + Mp * (V0p * V0p - V1p * V1p)  # x * x: what numpy computes for x**2
+    shape = np.shape(V1)
+    return DirectImpact(V1=V1, V1p=V1p, newton_e=_newton(M, Mp, eps, epsp, D), vis_viva_lost=lost,
+                        method="exact", path=codes(shape, PathCode.EXACT),
+                        regime=codes(shape, Regime.FRICTIONLESS), label="closed form, §I eq. (7)")
 
 
 def wall_impact(V0: ArrayLike, *, eps: ArrayLike) -> WallImpact:
     """Impact on an immovable mass, eq. (9) §I n°5, as a result of the shared convention."""
-    V0, eps = np.broadcast_arrays(np.asarray(V0, dtype=float), np.asarray(eps, dtype=float))
+    V0, eps = batch_arrays(V0, eps)
     r = velocity_ratio_from_eps(eps)
-    return WallImpact(V1=-r * V0, ratio=r, method="exact", path=codes(V0.shape, PathCode.EXACT),
-                      regime=codes(V0.shape, Regime.FRICTIONLESS), label="closed form, §I eq. (9)")
+    shape = np.shape(V0)
+    return WallImpact(V1=-r * V0, ratio=r, method="exact", path=codes(shape, PathCode.EXACT),
+                      regime=codes(shape, Regime.FRICTIONLESS), label="closed form, §I eq. (9)")
 
 
 def infinite_mass_impact(V0: ArrayLike, *, eps: ArrayLike) -> np.ndarray:
@@ -119,7 +121,7 @@ def infinite_mass_impact(V0: ArrayLike, *, eps: ArrayLike) -> np.ndarray:
 def velocity_ratio_from_eps(eps: ArrayLike) -> np.ndarray:
     """The ratio −V1/V0 = (1 − ε)/(1 + ε) of an impact on an immovable mass, eq. (9) §I n°5: the yield ν of
     the normal velocity (§III, §IV) and Newton's e of a ball on a wall are this same number."""
-    eps = np.asarray(eps, dtype=float)
+    eps = eps if eps.__class__ is np.float64 else np.asarray(eps, dtype=float)
     return (1.0 - eps) / (1.0 + eps)
 
 
@@ -146,8 +148,13 @@ def newton_restitution(M: ArrayLike, Mp: ArrayLike, eps: ArrayLike, epsp: ArrayL
     Not in the paper; follows from (7): V1′ − V1 = −(V0 − V0′) + Δ(1 + M/M′). For ε = ε′, or for M′ → ∞,
     e = (1 − ε)/(1 + ε) whatever the masses.
     """
-    M, Mp, eps, epsp = (np.asarray(a, dtype=float) for a in (M, Mp, eps, epsp))
-    return (Mp * (1.0 - eps) + M * (1.0 - epsp)) / denominator(M, Mp, eps, epsp)
+    M, Mp, eps, epsp = as_floats(M, Mp, eps, epsp)
+    return _newton(M, Mp, eps, epsp, denominator(M, Mp, eps, epsp))
+
+
+def _newton(M: ArrayLike, Mp: ArrayLike, eps: ArrayLike, epsp: ArrayLike, D: ArrayLike) -> ArrayLike:
+    """``newton_restitution`` with its denominator D of eqs (7)-(8) given."""
+    return (Mp * (1.0 - eps) + M * (1.0 - epsp)) / D
 
 
 def eps_from_newton(e: ArrayLike) -> np.ndarray:

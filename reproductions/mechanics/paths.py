@@ -15,6 +15,8 @@ program). This module imports no model; ``registry`` assembles them.
 from __future__ import annotations
 
 import dataclasses
+import functools
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from enum import Enum, IntEnum
@@ -22,7 +24,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ONES", "Kind", "Model", "Param", "Path", "PathCode", "PathError", "Regime", "always", "codes", "solve"]
+__all__ = ["ONES", "Kind", "Model", "Param", "Path", "PathCode", "PathError", "Regime", "always", "as_floats",
+           "auto_by_masks", "batch_arrays", "by_route", "codes", "every", "pick", "solve"]
 
 Scene = Mapping[str, np.ndarray]
 
@@ -59,6 +62,46 @@ class Regime(IntEnum):
 def codes(shape: tuple[int, ...], code: int) -> np.ndarray:
     """A per-scene array of one path or regime code."""
     return np.full(shape, int(code), dtype=np.int8)
+
+
+def every(mask: np.ndarray) -> bool:
+    """``mask.all()`` for a boolean array, without the reduction's fixed cost for a single scene."""
+    return bool(mask.item()) if mask.size == 1 else bool(mask.all())
+
+
+def _some(mask: np.ndarray) -> bool:
+    """``mask.any()``, as ``every``."""
+    return bool(mask.item()) if mask.size == 1 else bool(mask.any())
+
+
+def batch_arrays(*xs: Any) -> list[Any]:
+    """The arguments as float arrays of one broadcast shape (``np.broadcast_arrays``). Float arrays that already
+    share one shape, as ``Model.scene`` gives them, pass as they are, without its fixed cost; so do numpy floats
+    (``np.float64``) when every argument is one: one scene, as the single-scene route of ``solve`` gives it
+    (numpy's operations on them are the ones its arrays use, at a fifth of the cost)."""
+    first = xs[0]
+    cls = first.__class__
+    if cls is np.float64:
+        if all(x.__class__ is np.float64 for x in xs):
+            return list(xs)
+    elif cls is np.ndarray and first.dtype == np.float64:
+        shape = first.shape
+        if all(x.__class__ is np.ndarray and x.dtype == np.float64 and x.shape == shape for x in xs):
+            return list(xs)
+    return np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in xs))
+
+
+def as_floats(*xs: Any) -> list[Any]:
+    """``np.asarray(x, dtype=float)`` of each argument (no broadcasting), numpy floats passing as they are (see
+    ``batch_arrays``)."""
+    return [x if x.__class__ is np.float64 else np.asarray(x, dtype=float) for x in xs]
+
+
+def pick(cond: Any, a: Any, b: Any) -> Any:
+    """``np.where(cond, a, b)``; for one scene as numpy scalars, the chosen value itself (the same number)."""
+    if cond.__class__ is np.bool_ and a.__class__ is not np.ndarray and b.__class__ is not np.ndarray:
+        return a if cond else b
+    return np.where(cond, a, b)
 
 
 class PathError(ValueError):
@@ -125,6 +168,11 @@ class Path:
     doc: str
     handles: Callable[[Scene], np.ndarray] = always
     handles_text: str = "every scene"
+    # ``run`` and the predicates also take one scene as numpy floats (``np.float64``, vectors as arrays) and give
+    # numpy scalars: ``solve`` then runs a single scene so (``_run_one``), with the numbers of the array route.
+    # Such code converts with ``batch_arrays``/``as_floats``, chooses with ``pick`` and writes x * x, never x**2:
+    # numpy's scalar power calls the C library's pow, its arrays square or their own pow (tests/test_small_batch.py)
+    scalar: bool = False
     # ODE paths: the same integration at another tolerance and scipy solver (work-precision runs), and the
     # tolerance and solver that ``run`` uses
     tuned: Callable[[Scene, float, str], Any] | None = None
@@ -189,26 +237,61 @@ class Model:
         raise PathError(f"{self.name} has no path '{name}' (expected auto or one of: "
                         f"{', '.join(p.name for p in self.paths)})")
 
+    @functools.cached_property
+    def _plan(self) -> _Plan:
+        """What ``scene`` and ``solve`` read on every call, computed once per model."""
+        return _Plan(self)
+
     def scene(self, values: Mapping[str, Any]) -> dict[str, np.ndarray]:
         """Broadcast the given values (defaults for the others) into arrays with one batch shape."""
-        missing = [p.name for p in self.params if p.name not in values and p.default is None]
-        if missing:
+        plan = self._plan
+        if not values.keys() >= plan.required:
+            missing = [p.name for p in self.params if p.name not in values and p.default is None]
             raise PathError(f"{self.name} needs {', '.join(missing)} (no default)")
-        unknown = [k for k in values if k not in {p.name for p in self.params}]
-        if unknown:
+        if not values.keys() <= plan.names:
+            unknown = [k for k in values if k not in plan.names]
             raise PathError(f"{self.name} has no parameter {', '.join(unknown)}")
-        raw = {p.name: np.asarray(values.get(p.name, p.default), dtype=float) for p in self.params}
-        batch = np.broadcast_shapes(*(a.shape[:-1] if k in self.vectors else a.shape for k, a in raw.items()
-                                      if k not in self.static))
-        out = {ONES: np.ones(batch, dtype=bool)}
+        raw = {k: (np.asarray(values[k], dtype=float) if k in values else d) for k, d in plan.defaults.items()}
+        shapes = {a.shape[:-1] if k in self.vectors else a.shape for k, a in raw.items() if k not in self.static}
+        batch = shapes.pop() if len(shapes) == 1 else np.broadcast_shapes(*shapes)
+        out = {ONES: plan.ones if batch == () else np.ones(batch, dtype=bool)}
         for k, a in raw.items():
             if k in self.static:
                 if a.size != 1:
                     raise PathError(f"{self.name}: '{k}' must be one number for the whole batch")
                 out[k] = a.reshape(())
             else:
-                out[k] = np.broadcast_to(a, (*batch, 3) if k in self.vectors else batch)
+                shape = (*batch, 3) if k in self.vectors else batch
+                if a.shape != shape:
+                    if batch == () and k not in values:  # a default vector of one scene: one shared view
+                        a = plan.vector_defaults[k]
+                    else:
+                        a = np.broadcast_to(a, shape)  # a read-only view
+                elif a is values.get(k):  # the caller's own array: a read-only view of it, as broadcast_to gives
+                    a = a.view()
+                    a.flags.writeable = False
+                out[k] = a
         return out
+
+
+class _Plan:
+    """A model's parameter names, defaults as arrays and paths in the order ``solve`` tries them (read-only)."""
+
+    def __init__(self, model: Model) -> None:
+        self.names = frozenset(p.name for p in model.params)
+        self.static, self.vectors = frozenset(model.static), frozenset(model.vectors)
+        self.required = frozenset(p.name for p in model.params if p.default is None)
+        self.defaults: dict[str, np.ndarray | None] = {}
+        for p in model.params:
+            d = None if p.default is None else np.asarray(p.default, dtype=float)
+            if d is not None:
+                d.flags.writeable = False  # shared by every scene that takes the default
+            self.defaults[p.name] = d
+        self.vector_defaults = {k: np.broadcast_to(d, (3,)) for k, d in self.defaults.items()
+                                if k in self.vectors and d is not None}
+        self.ones = np.ones((), dtype=bool)
+        self.ones.flags.writeable = False
+        self.order = tuple(sorted(model.paths, key=lambda q: q.cost))  # stable: declared order breaks ties
 
 
 def _take(model: Model, scene: Scene, mask: np.ndarray) -> dict[str, np.ndarray]:
@@ -218,34 +301,144 @@ def _take(model: Model, scene: Scene, mask: np.ndarray) -> dict[str, np.ndarray]
 def solve(model: Model, scene: Scene, method: str = "auto") -> Any:
     """Compute a batch of scenes by the path ``method``, or for ``"auto"`` by the cheapest path that declares
     itself exact for each scene. Raises ``PathError`` for an unknown path, a path asked for outside the region it
-    handles, or a scene the model does not admit."""
-    ok = np.asarray(model.admissible(scene), dtype=bool)
-    if not ok.all():
+    handles, or a scene the model does not admit.
+
+    ``auto`` has two routes to the same numbers (tests/test_small_batch.py requires them equal bit for bit). The
+    small-batch route: where the cheapest path handles every scene and declares itself exact for each (every
+    scene of a closed-form model, a single scene whatever its path), that path runs once, on the flattened batch
+    (``_auto_single``), or for a single scene on its numpy floats where the path declares ``scalar``
+    (``_run_one``: the same function, numpy's scalar arithmetic instead of its array loops); no masks, no merge.
+    The general route (``auto_by_masks``): each path in turn, cheapest first, takes the scenes left to it (a single
+    scene, by the first path that takes it, again without masks or merge)."""
+    one = None
+    if method == "auto":
+        first = model._plan.order[0]
+        batch = np.shape(scene[ONES])
+        if first.scalar and batch in ((), (1,)):  # one scene, and a path that takes it as numpy floats
+            one = _one(model, scene)
+    ok = np.asarray(model.admissible(scene if one is None else one), dtype=bool)
+    if not every(ok):
         raise PathError(f"{model.name}: {int((~ok).sum())} scene(s) outside the model: {model.admissible_text}")
     if method != "auto":
         p = model.path(method)
-        handled = np.asarray(p.handles(scene), dtype=bool)
-        if not handled.all():
-            raise PathError(f"{model.name}: path '{p.name}' handles only {p.handles_text}; "
-                            f"{int((~handled).sum())} scene(s) are outside it")
+        if p.handles is not always:
+            handled = np.asarray(p.handles(scene), dtype=bool)
+            if not every(handled):
+                raise PathError(f"{model.name}: path '{p.name}' handles only {p.handles_text}; "
+                                f"{int((~handled).sum())} scene(s) are outside it")
         return p.run(scene)
-    batch = np.shape(scene[ONES])
-    flat = {k: (a if k in model.static else a.reshape(-1, 3) if k in model.vectors else a.reshape(-1))
+    if one is not None:
+        sel = _selection(first, one)
+        if sel is None or every(sel):
+            return _run_one(first, one, batch)
+    batch, n, flat = _flatten(model, scene)
+    sel = np.zeros(n, dtype=bool) if one is not None else _selection(first, flat) if n else None
+    if n and (sel is None or every(sel)):
+        return _auto_single(first, flat, n, batch)
+    return _auto_general(model, flat, n, batch, sel, whole=n == 1)
+
+
+def _one(model: Model, scene: Scene) -> dict[str, Any]:
+    """A scene of one, its numbers as numpy floats (vectors as arrays of 3, static parameters as given)."""
+    plan = model._plan
+    return {k: (a if k in plan.static else a.reshape(3) if k in plan.vectors else a[()] if a.ndim == 0 else a[0])
             for k, a in scene.items()}
-    n = int(np.prod(batch, dtype=int))
+
+
+def _run_one(p: Path, one: dict[str, Any], batch: tuple[int, ...]) -> Any:
+    """The result of ``auto`` where ``p`` serves a scene of one (``batch`` () or (1,)), run on its numpy floats:
+    its outputs as arrays of the batch shape, as the array route gives them."""
+    res = p.run(one)
+    values = dict(res.__dict__)
+    for name, v in values.items():
+        if isinstance(v, (np.ndarray, np.generic)):
+            values[name] = np.asarray(v).reshape(batch) if batch else v if v.__class__ is np.ndarray else np.asarray(v)
+    values["method"] = "auto"
+    values["label"] = f"auto: 1 by {res.label}"
+    out = object.__new__(type(res))  # a frozen dataclass: its fields set as its own __init__ sets them
+    out.__dict__.update(values)
+    return out
+
+
+def by_route(model: Model, scene: Scene, method: str, route: str) -> Any:
+    """The path ``method`` (not auto) on an admissible scene it handles, as one route of ``solve(…, "auto")``
+    would run it: ``"general"`` on the selected scenes taken out of the flattened batch and merged back, or
+    ``"small"`` as the single-path route does (a scene of one as numpy floats where the path declares
+    ``scalar``, else the whole flattened batch). For the tests, which require the two to agree bit for bit."""
+    p = model.path(method)
+    batch, n, flat = _flatten(model, scene)
+    if route == "general":
+        every_scene = np.ones(n, dtype=bool)
+        return _merge([(every_scene, p.run(_take(model, flat, every_scene)))], n, batch)
+    if route != "small":
+        raise ValueError(f"route must be 'small' or 'general', got {route!r}")
+    if p.scalar and n == 1:
+        return _run_one(p, _one(model, scene), batch)
+    return _auto_single(p, flat, n, batch)
+
+
+def _flatten(model: Model, scene: Scene) -> tuple[tuple[int, ...], int, dict[str, np.ndarray]]:
+    """The batch shape, the number of scenes and the scene with one batch axis (static parameters as given)."""
+    batch = np.shape(scene[ONES])
+    n = math.prod(batch)
+    static, vectors = model._plan.static, model._plan.vectors
+    flat = {k: (a if k in static else a.reshape(n, 3) if k in vectors else a.reshape(n)) for k, a in scene.items()}
+    return batch, n, flat
+
+
+def _selection(p: Path, flat: Scene) -> np.ndarray | None:
+    """Where ``p`` handles the scene and declares itself exact (``None``: everywhere, declared ``always``)."""
+    sel = None if p.handles is always else np.asarray(p.handles(flat), dtype=bool)
+    if p.exact_when is not always and p.exact_when is not p.handles:
+        exact = np.asarray(p.exact_when(flat), dtype=bool)
+        sel = exact if sel is None else sel & exact
+    return sel
+
+
+def auto_by_masks(model: Model, scene: Scene) -> Any:
+    """``solve(model, scene, "auto")`` by the general route alone, for the tests that compare the two routes (the
+    scene is taken as admissible)."""
+    batch, n, flat = _flatten(model, scene)
+    return _auto_general(model, flat, n, batch)
+
+
+def _auto_single(p: Path, flat: Scene, n: int, batch: tuple[int, ...]) -> Any:
+    """The result of ``auto`` where one path serves every scene: that path's result, reshaped to the batch."""
+    return _relabel(p.run(flat), n, batch, [(n, None)])
+
+
+def _auto_general(model: Model, flat: Scene, n: int, batch: tuple[int, ...], first: np.ndarray | None = None,
+                  whole: bool = False) -> Any:
+    """Each path, cheapest first, on the scenes left where it handles them and declares itself exact; ``first``:
+    that selection for the cheapest path, already computed. ``whole``: a path that takes every scene (none taken
+    before it) runs on the batch itself, as ``_auto_single`` (a single scene past the cheapest path)."""
     todo = np.ones(n, dtype=bool)
     parts: list[tuple[np.ndarray, Any]] = []
-    for p in sorted(model.paths, key=lambda q: q.cost):  # stable: declared order breaks ties
-        if not todo.any():
+    masks: dict[Callable[[Scene], np.ndarray], np.ndarray] = {}  # a predicate that several paths share, once
+
+    def mask(predicate: Callable[[Scene], np.ndarray]) -> np.ndarray | bool:
+        if predicate is always:
+            return True
+        if predicate not in masks:
+            masks[predicate] = np.asarray(predicate(flat), dtype=bool)
+        return masks[predicate]
+
+    for i, p in enumerate(model._plan.order):  # cheapest first; stable: declared order breaks ties
+        if not _some(todo):
             break
-        sel = todo & np.asarray(p.handles(flat), dtype=bool) & np.asarray(p.exact_when(flat), dtype=bool)
-        if sel.any():
+        if i == 0 and first is not None:
+            sel = todo & first
+        else:
+            sel = todo & mask(p.handles) & mask(p.exact_when)
+        if whole and not parts and every(sel):
+            return _auto_single(p, flat, n, batch)
+        if _some(sel):
             parts.append((sel, p.run(_take(model, flat, sel))))
             todo &= ~sel
-    if todo.any():  # cannot happen when some path is exact everywhere (every model has its ODE path)
+    if _some(todo):  # cannot happen when some path is exact everywhere (every model has its ODE path)
         raise PathError(f"{model.name}: no path declares itself exact for {int(todo.sum())} scene(s)")
     if not parts:  # an empty batch: the cheapest path's result of no scene (its arrays of length 0)
-        cheapest = min(model.paths, key=lambda q: q.cost)
+        cheapest = model._plan.order[0]
         return _merge([(todo, cheapest.run(_take(model, flat, todo)))], n, batch)
     return _merge(parts, n, batch)
 
@@ -260,9 +453,23 @@ def _merge(parts: list[tuple[np.ndarray, Any]], n: int, batch: tuple[int, ...]) 
             out = np.empty((n, *v0.shape[1:]), dtype=v0.dtype)
             for sel, res in parts:
                 out[sel] = getattr(res, f.name)
-            values[f.name] = out.reshape((*batch, *v0.shape[1:]))
+            values[f.name] = out
         else:
             values[f.name] = v0
+    merged = object.__new__(type(first))
+    merged.__dict__.update(values)
+    return _relabel(merged, n, batch, [(int(sel.sum()), res) for sel, res in parts])
+
+
+def _relabel(res: Any, n: int, batch: tuple[int, ...], counts: list[tuple[int, Any]]) -> Any:
+    """``res`` (arrays over the flattened batch) as the result of ``auto``: array fields reshaped to the batch,
+    ``method`` "auto", ``label`` saying how many scenes each path computed (``None``: ``res`` itself)."""
+    values = dict(res.__dict__)
+    for name, v in values.items():
+        if isinstance(v, np.ndarray) and v.ndim >= 1:  # as ``_merge`` scatters them: batch axis first
+            values[name] = v.reshape((*batch, *v.shape[1:]))
     values["method"] = "auto"
-    values["label"] = "auto: " + "; ".join(f"{int(sel.sum())} by {res.label}" for sel, res in parts)
-    return type(first)(**values)
+    values["label"] = "auto: " + "; ".join(f"{k} by {(r if r is not None else res).label}" for k, r in counts)
+    out = object.__new__(type(res))  # a frozen dataclass: its fields set as its own __init__ sets them
+    out.__dict__.update(values)
+    return out

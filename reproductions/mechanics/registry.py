@@ -23,6 +23,7 @@ from .paths import (
     PathCode,
     Regime,
     always,
+    as_floats,
     codes,
 )
 
@@ -482,7 +483,7 @@ def _cue_sample(rng: np.random.Generator, n: int) -> Scene:
 
 
 def _cue_admissible(s: Scene) -> np.ndarray:
-    b, c, R, i = (np.asarray(s[x], dtype=float) for x in ("b", "c", "R", "i"))
+    b, c, R, i = as_floats(s["b"], s["c"], s["R"], s["i"])
     inside = b * b + c * c < R * R
     a = -np.sqrt(np.maximum(R * R - b * b - c * c, 0.0))
     return inside & (-(a * np.cos(i) - c * np.sin(i)) / R > 0)
@@ -522,7 +523,8 @@ def _build() -> dict[str, Model]:
             Param("eps", "1", "Résal's ε of M (0 elastic, 1 Carnot's inelastic impact)", None, **_EPS),
             Param("epsp", "1", "Résal's ε′ of M′", None, **_EPS),
         ), (), (
-            Path(PathCode.EXACT, Kind.CLOSED_FORM, _direct_exact, always, 1e-13, 1, "closed form, eq. (7)"),
+            Path(PathCode.EXACT, Kind.CLOSED_FORM, _direct_exact, always, 1e-13, 1, "closed form, eq. (7)",
+                 scalar=True),
             Path(PathCode.ODE, Kind.ODE, _direct_ode, always, 1e-8, 1000,
                  "two-phase hysteretic contact integrated in time (DOP853)", tuned=_direct_ode, rtol=1e-10,
                  solver="DOP853"),
@@ -539,7 +541,7 @@ def _build() -> dict[str, Model]:
             Param("V0", "m/s", "normal velocity before the impact, towards the mass", 1.0, lo=0.0, lo_open=True),
             Param("eps", "1", "Résal's ε of the ball", None, **_EPS),
         ), (), (
-            Path(PathCode.EXACT, Kind.CLOSED_FORM, _wall_exact, always, 1e-13, 1, "closed form, eq. (9)"),
+            Path(PathCode.EXACT, Kind.CLOSED_FORM, _wall_exact, always, 1e-13, 1, "closed form, eq. (9)", scalar=True),
             Path(PathCode.ODE, Kind.ODE, _wall_ode, always, 1e-8, 1000,
                  "two-phase contact against an immovable mass (DOP853)", tuned=_wall_ode, rtol=1e-10, solver="DOP853"),
         ), ("V1",), lambda s: np.asarray(s["V0"]) > 0, "the ball must approach the mass (V0 > 0)",
@@ -553,9 +555,9 @@ def _build() -> dict[str, Model]:
             _R, _K, _f(), Param("nu", "1", "yield ν of the normal velocity, ζ1 = −νζ0", None, **_NU),
         ), (), (
             Path(PathCode.EXACT, Kind.CLOSED_FORM, lambda s: _plane(s, "exact"),
-                 always, 1e-13, 1, "closed form in both regimes"),
+                 always, 1e-13, 1, "closed form in both regimes", scalar=True),
             Path(PathCode.RESAL, Kind.AS_PRINTED, lambda s: _plane(s, "resal"),
-                 _plane_resal_exact, 1e-13, 1, "eqs (6) as printed: sliding assumed throughout"),
+                 _plane_resal_exact, 1e-13, 1, "eqs (6) as printed: sliding assumed throughout", scalar=True),
             Path(PathCode.ODE, Kind.ODE, lambda s: _plane_ode(s["chi0"], s["zeta0"], s["p0"], R=s["R"], k=s["k"],
                                                               f=s["f"],
                                                              nu=s["nu"]), always, 1e-9, 1000,
@@ -593,7 +595,8 @@ def _build() -> dict[str, Model]:
             Param("wy", "rad/s", "rotation about y, p; the slip is v_x = χ − pR", 0.0), _R, _K,
             Param("f", "1", "friction on the cloth", None, lo=0.0, lo_open=True), _G,
         ), (), (
-            Path(PathCode.EXACT, Kind.CLOSED_FORM, _cloth_exact, always, 1e-13, 1, "Euler's parabola, eqs (3)-(4)"),
+            Path(PathCode.EXACT, Kind.CLOSED_FORM, _cloth_exact, always, 1e-13, 1, "Euler's parabola, eqs (3)-(4)",
+                 scalar=True),
             Path(PathCode.ODE, Kind.ODE, _cloth_ode, always, 1e-8, 1000, "eqs (2) integrated in time (DOP853)",
                  tuned=_cloth_ode, rtol=1e-11, solver="DOP853"),
         ), ("t_roll*g", "x_roll*g", "y_roll*g", "vx_roll", "vy_roll"), lambda s: np.ones(np.shape(s["vx"]), bool),
@@ -613,7 +616,7 @@ def _build() -> dict[str, Model]:
         ), (), (
             Path(PathCode.ELEMENTARY, Kind.CLOSED_FORM, _cushion("elementary"), _cushion_elementary, 1e-13, 1,
                  "the slip keeps its direction: linear decay", handles=_cushion_elementary,
-                 handles_text="n0 = 0, φ0 = χ0 − p0R = 0 or j = 0 (otherwise the slip turns)"),
+                 handles_text="n0 = 0, φ0 = χ0 − p0R = 0 or j = 0 (otherwise the slip turns)", scalar=True),
             Path(PathCode.EXACT, Kind.EXACT_NUMERICAL, _cushion("exact"), always, 1e-12, 3,
                  "Résal's integral (10) in closed form (₂F₁), its end by Newton's method"),
             Path(PathCode.RESAL, Kind.AS_PRINTED, _cushion("resal"), _cushion_resal_exact, 1e-12, 1,
@@ -643,10 +646,10 @@ def _build() -> dict[str, Model]:
             Param("epsp", "1", "Résal's ε′ of the cue", None, **_EPS),
         ), (), (
             Path(PathCode.EXACT, Kind.CLOSED_FORM, _cue("exact"), always, 1e-13, 1,
-                 "eqs (2)-(10) with the full moment, compression ended along the cue axis"),
+                 "eqs (2)-(10) with the full moment, compression ended along the cue axis", scalar=True),
             Path(PathCode.RESAL, Kind.AS_PRINTED, _cue("resal"),
                  lambda s: (np.asarray(s["b"]) == 0) & (np.asarray(s["c"]) == 0) & (np.asarray(s["i"]) == 0),
-                 1e-13, 1, "eqs (2)-(12) as printed"),
+                 1e-13, 1, "eqs (2)-(12) as printed", scalar=True),
             # 1e-7: the friction is regularised over 1e-9 of the impulse scale; `resal stress` found 3e-8 for a
             # ball 1e6 times lighter than the cue (1e-8 was declared before)
             Path(PathCode.ODE, Kind.ODE, _cue_ode, always, 1e-7, 1000,
