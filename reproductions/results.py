@@ -12,11 +12,14 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from importlib import resources
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .config import Experiment
-from .fit.estimators.lsq import Estimate, Family, FitResult
+
+if TYPE_CHECKING:  # annotations only: importing the estimators imports scipy.optimize (0.4 s)
+    from .fit.estimators.lsq import Estimate, Family, FitResult
 
 __all__ = [
     "Computed", "FigureSpec", "FitRow", "Layer", "Reproduction", "Row", "TableSpec", "family_report", "fit_rows",

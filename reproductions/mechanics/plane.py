@@ -23,13 +23,15 @@ numerically as the check.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .paths import PathCode, Regime, codes
+from .paths import PathCode, Regime, as_floats, codes
 
 __all__ = [
     "PlaneImpact",
@@ -45,6 +47,8 @@ __all__ = [
 ]
 
 METHODS = ("exact", "resal")
+_LABELS = {"resal": "Résal's eqs (6), §III n°8 (sliding assumed)",
+           "exact": "closed form, both regimes (slide / slip stops then rolls)"}
 
 
 @dataclass(frozen=True)
@@ -61,13 +65,16 @@ class PlaneImpact:
     label: str
 
 
+_NO_SLIP, _SLIDE, _GRIP = (np.int8(r) for r in (Regime.NO_SLIP, Regime.SLIDE, Regime.GRIP))
+
+
 def plane_regime(v0: np.ndarray, sliding: np.ndarray) -> np.ndarray:
-    """The ``Regime`` of a plane impact from the initial slip and the slide condition."""
-    return np.where(v0 == 0, Regime.NO_SLIP, np.where(sliding, Regime.SLIDE, Regime.GRIP)).astype(np.int8)
+    """The ``Regime`` of a plane impact from the initial slip and the slide condition (int8)."""
+    return np.where(v0 == 0, _NO_SLIP, np.where(sliding, _SLIDE, _GRIP))
 
 
 def _arrays(*args: ArrayLike) -> list[np.ndarray]:
-    return [np.asarray(a, dtype=float) for a in args]
+    return as_floats(*args)  # numpy floats (one scene: the small-batch route of ``paths.solve``) pass as they are
 
 
 def slides_throughout(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, *, R: ArrayLike, k: ArrayLike, f: ArrayLike,
@@ -88,6 +95,15 @@ def plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, *, R: ArrayLi
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     chi0, zeta0, p0, R, k, f, nu = _arrays(chi0, zeta0, p0, R, k, f, nu)
+    chi1, zeta1, p1, v0, sliding = _impact(chi0, zeta0, p0, R, k, f, nu, method)
+    shape = np.shape(chi1)
+    return PlaneImpact(chi1=chi1, zeta1=zeta1, p1=p1, method=method, path=codes(shape, PathCode[method.upper()]),
+                       regime=plane_regime(np.broadcast_to(v0, shape), sliding), label=_LABELS[method])
+
+
+def _impact(chi0: np.ndarray, zeta0: np.ndarray, p0: np.ndarray, R: np.ndarray, k: np.ndarray, f: np.ndarray,
+            nu: np.ndarray, method: str) -> tuple[np.ndarray, ...]:
+    """The arithmetic of ``plane_impact`` on float arrays: (χ1, ζ1, p1, v_x0, sliding)."""
     v0 = chi0 - p0 * R
     budget = f * (1 + k) * (1 + nu) * np.abs(zeta0)  # the change of v_x that sliding friction can make
     sliding = np.abs(v0) >= budget
@@ -95,15 +111,11 @@ def plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, *, R: ArrayLi
         s = np.sign(v0)
         chi1 = chi0 + s * f * (1 + nu) * zeta0
         pR1 = p0 * R - s * f * k * (1 + nu) * zeta0
-        label, code = "Résal's eqs (6), §III n°8 (sliding assumed)", PathCode.RESAL
     else:
         dv = -np.sign(v0) * np.minimum(np.abs(v0), budget)
         chi1 = chi0 + dv / (1 + k)
         pR1 = p0 * R - k * dv / (1 + k)
-        label, code = "closed form, both regimes (slide / slip stops then rolls)", PathCode.EXACT
-    shape = np.shape(chi1)
-    return PlaneImpact(chi1=chi1, zeta1=-nu * zeta0, p1=pR1 / R, method=method, path=codes(shape, code),
-                       regime=plane_regime(np.broadcast_to(v0, shape), sliding), label=label)
+    return chi1, -nu * zeta0, pR1 / R, v0, sliding
 
 
 def range_ratio_resal(alpha0: ArrayLike, *, f: ArrayLike, nu: ArrayLike) -> np.ndarray:
@@ -157,17 +169,22 @@ def ricochet(a0: ArrayLike, alpha0: ArrayLike, p0: ArrayLike, *, R: ArrayLike, k
     ``impact`` replaces ``plane_impact`` (the ODE path passes the integrated impact).
     """
     a0, alpha0, p0, R, k, f, nu, g = np.broadcast_arrays(*_arrays(a0, alpha0, p0, R, k, f, nu, g))
+    if impact is None and method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     chi, zeta, p = a0 * np.cos(alpha0), -a0 * np.sin(alpha0), p0
     cols: dict[str, list[np.ndarray]] = {"chi": [], "zeta": [], "p": [], "regime": [], "P": [], "T": []}
-    label = ""
+    label = "" if impact is not None or n == 0 else _LABELS[method]
     for _ in range(n):
-        out = (impact or plane_impact)(chi, zeta, p, R=R, k=k, f=f, nu=nu, method=method)
-        label = out.label
-        chi, zeta, p = out.chi1, out.zeta1, out.p1
+        if impact is None:  # plane_impact's arithmetic without its wrapping (the fits call this 10³ times)
+            chi, zeta, p, v0, sliding = _impact(chi, zeta, p, R, k, f, nu, method)
+            regime = plane_regime(v0, sliding)
+        else:
+            out = impact(chi, zeta, p, R=R, k=k, f=f, nu=nu, method=method)
+            label, chi, zeta, p, regime = out.label, out.chi1, out.zeta1, out.p1, out.regime
         cols["chi"].append(chi)
         cols["zeta"].append(zeta)
         cols["p"].append(p)
-        cols["regime"].append(out.regime)
+        cols["regime"].append(regime)
         cols["T"].append(2 * zeta / g)
         cols["P"].append(2 * chi * zeta / g)
         zeta = -zeta  # lands with the normal velocity reversed
@@ -223,10 +240,21 @@ class Impact3D:
     stopped_at: float  # fraction of the normal impulse at which the slip stopped (nan: it slid throughout)
 
 
+def _cross(a0: Any, a1: Any, a2: Any, b0: Any, b1: Any, b2: Any) -> tuple[Any, Any, Any]:
+    """The vector product a × b in components (floats, or arrays of one shape): written out, since ``np.cross``
+    costs some 30 µs a call and the right-hand side below calls it twice per evaluation."""
+    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+
+
+_CONTACT = (0.0, 0.0, -1.0)  # the contact point from the centre, in units of R
+_NORMAL = (0.0, 0.0, 1.0)  # ẑ, the outward normal of the plane
+
+
 def slip_velocity(v: ArrayLike, Rw: ArrayLike) -> np.ndarray:
     """Velocity of the contact point, v + ω × (−R ẑ), from the vector product (§III n°8; the check of eq. 1)."""
     v, Rw = _arrays(v, Rw)
-    return v + np.cross(Rw, np.broadcast_to([0.0, 0.0, -1.0], np.shape(Rw)))
+    w = np.moveaxis(Rw, -1, 0)
+    return v + np.stack(np.broadcast_arrays(*_cross(w[0], w[1], w[2], *_CONTACT)), axis=-1)
 
 
 def impact_rates(v: ArrayLike, Rw: ArrayLike, *, k: float, f: float) -> tuple[np.ndarray, np.ndarray]:
@@ -234,8 +262,24 @@ def impact_rates(v: ArrayLike, Rw: ArrayLike, *, k: float, f: float) -> tuple[np
     u = slip_velocity(v, Rw)
     uh = u * np.array([1.0, 1.0, 0.0])
     unit = uh / np.linalg.norm(uh, axis=-1, keepdims=True)
-    z = np.broadcast_to([0.0, 0.0, 1.0], np.shape(unit))
-    return z - f * unit, k * f * np.cross(z, unit)
+    e = np.moveaxis(unit, -1, 0)
+    z = np.broadcast_to(_NORMAL, np.shape(unit))
+    return z - f * unit, k * f * np.stack(np.broadcast_arrays(*_cross(*_NORMAL, e[0], e[1], e[2])), axis=-1)
+
+
+def _impact_rhs(k: float, f: float) -> Callable[[float, np.ndarray], np.ndarray]:
+    """``impact_rates`` for one state y = (v, Rω) of ``solve_ivp``, in floats: the same vector equations, term by
+    term, at a tenth of the cost of the array version (the integration calls it some 120 times per impact)."""
+    def rhs(_pi: float, y: np.ndarray) -> np.ndarray:
+        vx, vy, _vz, wx, wy, wz = y.tolist()
+        cx, cy, _cz = _cross(wx, wy, wz, *_CONTACT)
+        ux, uy = vx + cx, vy + cy  # the slip v + ω × (−R ẑ), horizontal part
+        norm = math.hypot(ux, uy)
+        ex, ey = ux / norm, uy / norm
+        tx, ty, tz = _cross(*_NORMAL, ex, ey, 0.0)
+        return np.array([_NORMAL[0] - f * ex, _NORMAL[1] - f * ey, _NORMAL[2], k * f * tx, k * f * ty, k * f * tz])
+
+    return rhs
 
 
 def integrate_impact_3d(v0: ArrayLike, Rw0: ArrayLike, *, k: float, f: float, nu: float, rtol: float = 1e-11,
@@ -255,24 +299,22 @@ def integrate_impact_3d(v0: ArrayLike, Rw0: ArrayLike, *, k: float, f: float, nu
     scale = max(float(np.max(np.abs(np.concatenate([v0, Rw0])))), abs(v0[2]))
     if f == 0.0 or end == 0.0 or np.hypot(*u0) <= 1e-14 * scale:  # no slip, or one lost in the rounding of v + Rω
         return Impact3D(v0 + np.array([0.0, 0.0, end]), Rw0, 0.0, float("nan"))
-    e0 = u0 / np.linalg.norm(u0)
-
-    def rhs(_pi: float, y: np.ndarray) -> np.ndarray:
-        dv, dw = impact_rates(y[:3], y[3:], k=k, f=f)
-        return np.concatenate([dv, dw])
+    e0x, e0y = (u0 / np.linalg.norm(u0)).tolist()
 
     def stops(_pi: float, y: np.ndarray) -> float:
-        return float(slip_velocity(y[:3], y[3:])[:2] @ e0)
+        vx, vy, _vz, wx, wy, wz = y.tolist()
+        cx, cy, _cz = _cross(wx, wy, wz, *_CONTACT)
+        return (vx + cx) * e0x + (vy + cy) * e0y
 
     stops.terminal = True
     stops.direction = -1
-    sol = check(solve_ivp(bounded(rhs), (0.0, end), np.concatenate([v0, Rw0]), events=stops, rtol=rtol,
-                          atol=rtol * scale, method="DOP853", dense_output=True))
+    sol = check(solve_ivp(bounded(_impact_rhs(k, f)), (0.0, end), np.concatenate([v0, Rw0]), events=stops,
+                          rtol=rtol, atol=rtol * scale, method="DOP853", dense_output=True))
     stop = float(sol.t_events[0][0]) if sol.status == 1 else end
     ts = np.linspace(0.0, 0.9 * stop if sol.status == 1 else stop, samples)  # the slip's direction while it lasts
     ys = sol.sol(ts).T
     uh = slip_velocity(ys[:, :3], ys[:, 3:])[:, :2]
-    turn = float(np.max(np.abs(uh[:, 0] * e0[1] - uh[:, 1] * e0[0]) / np.linalg.norm(uh, axis=1)))
+    turn = float(np.max(np.abs(uh[:, 0] * e0y - uh[:, 1] * e0x) / np.linalg.norm(uh, axis=1)))
     y = sol.y_events[0][0] if sol.status == 1 else sol.y[:, -1]
     v1, Rw1 = y[:3].copy(), y[3:].copy()
     if sol.status == 1:
