@@ -14,64 +14,201 @@ friction. For α < β the roles of φ and ψ swap; α = β, ψ0 = 0 or φ0 = 0 h
 
 from __future__ import annotations
 
+from functools import lru_cache
+from typing import NamedTuple
+
 import numpy as np
-from scipy.special import hyp2f1
 
 __all__ = ["SlipDecay", "slip_decay"]
 
 
 NEWTON_MAXITER = 60  # bound on the Newton iteration; a monotone convex iteration needs ~5-8 steps
 NEWTON_RTOL = 1e-14  # stop when the step is below this fraction of x, or the residual below it of H(1)
-# (H itself is known to a few ulps of hyp2f1, about 1e-15: a tighter test would chase rounding)
-NEWTON_FLOOR = 1e-9  # Pfaff's branch knows H to ~1e-12 only: a step that stops shrinking below this has reached
-# the noise of H (it cycles there: 2 of 1e6 scenes of ``make stress`` with mass ratios of 1e6)
+# (H itself is known to a few ulps, about 1e-15: a tighter test would chase rounding)
+NEWTON_FLOOR = 1e-9  # a step that stops shrinking below this has reached the noise of H and of the step's own
+# logarithms and powers (with mass ratios of 1e6 it can cycle there: 2 of 1e6 scenes of ``make stress``)
 
 
-_DEGENERATE = 1e-5  # |c − ½| below which Pfaff's form itself fails (c − a − b → 1): 1e-6 off at 1e-12
-_NODES = 1e-4 * np.arange(-2.0, 3.0)  # interpolation nodes in c − ½ (at ½ itself scipy is exact)
+# ---- F(c, w) = ₂F₁(−½, c; c + 1; −w), w ≥ 0: the slip-decay function (§IV n°11 eq. (10), §VI n°13) -----------
+# F = c ∫_0^1 t^(c−1) √(1 + w t) dt = c w^(−c) G_c(w), G_c(w) = ∫_0^w u^(c−1) √(1 + u) du. Three convergent
+# series, each with a proven bound on its truncation (tests/test_slip_kernel.py checks them against mpmath):
+#   w ≤ 1, or c ≥ C_BIG: Pfaff's form √(1 + w) Σ p_n y^n, y = w/(1 + w), p_{n+1} = p_n (n − ½)/(n + c + 1);
+#     the terms after the first share a sign (no cancellation) and Σ_{n≥K} |p_n| = |p_K| (K + c)/(c + ½), so
+#     with y ≤ ½ the tail is below 2 |p_K| 2^(−K), and for c ≥ C_BIG below |p_K|(K + c)/(c + ½) at any y ≤ 1;
+#   w > 1, c ≤ C_SERIES: G_c(w) = G_c(1) + ∫_v^½ (1 − s)^(c−1) s^(−c−3/2) ds, s = 1/(1 + u), v = 1/(1 + w),
+#     with (1 − s)^(c−1) = Σ b_m s^m (ratio ≤ ½): Σ b_m (½^(e_m) − v^(e_m))/e_m, e_m = m − c − ½. The one term
+#     with |e_m| ≤ ½ is written v^e expm1(e ln(½/v))/e, which has no pole: nothing degenerates at c = ½ + m
+#     (where the classical connection formulas for z → −∞ need log terms); the others split into a constant
+#     of c and a power series in v;
+#   w > 1, C_SERIES < c < C_BIG: that series at c − j (j ≤ C_BIG − C_SERIES), then j steps of the contiguous
+#     relation F(c + 1) = (c + 1)/(c + 3/2) [√(1 + w)(1 + 1/w) − F(c)/w] (from integrating G_(c+1) by parts),
+#     which contracts errors for w ≥ 1 (its factor F(c)/((1 + w)^(3/2) − F(c)) is below 1 there).
+# The series for w > 1 cancels as ~ (3/2)^c, hence C_SERIES; Pfaff's needs ≤ 47 terms at y = 1 from c = 16.
+C_SERIES = 3.0
+C_BIG = 16.0
+N_PFAFF = 52  # 2 |p_52| 2^−52 < 4e-19 for every c > 0
+N_SPLIT = 60  # 2^(c+1) (c + ½) |b_60/e_60| 2^−60 < 1e-18 for c ≤ C_SERIES
 
 
-def _pfaff(c: np.ndarray, z: np.ndarray) -> np.ndarray:
-    return np.sqrt(1 - z) * hyp2f1(-0.5, 1.0, c + 1, z / (z - 1))
+def _horner(coef: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Σ_n coef[n] x^n (rows of ``coef`` broadcast against x). One value is summed in floats, by the same
+    loop (a numpy call on one element costs a microsecond)."""
+    if isinstance(coef, np.ndarray) and coef.shape[-1] == 1 and np.size(x) == 1:
+        return np.full(np.broadcast_shapes(coef.shape[1:], np.shape(x)),
+                       _horner(coef[:, 0].tolist(), float(np.ravel(x)[0])))  # type: ignore[arg-type]
+    acc = coef[-1] * x
+    for row in coef[-2:0:-1]:
+        acc += row
+        acc *= x
+    acc += coef[0]
+    return acc
 
 
-def _F(c: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """₂F₁(−½, c; c + 1; z) for z ≤ 0. scipy's direct evaluation loses accuracy near c = ½ for z < −1 (4e-4 at
-    c = 0.5000001, z = −10; inf at c = ½, z = −1e16); there Pfaff's transformation
-    ₂F₁(a, b; c; z) = (1 − z)^(−a) ₂F₁(a, c − b; c; z/(z − 1)) is accurate to 1e-14, except within 1e-5 of
-    c = ½, where its own c − a − b tends to the integer 1 and scipy cancels (1e-6 off at c − ½ = 1e-12, against
-    mpmath in the tests). There F, smooth in c, is interpolated from five nodes c − ½ ∈ {0, ±1e-4, ±2e-4}, where
-    scipy is accurate (exact at ½). Elsewhere the direct form is accurate to a few ulps."""
-    out = np.empty(np.broadcast_shapes(np.shape(c), np.shape(z)))
-    c, z = np.broadcast_arrays(c, z)
-    pfaff = (np.abs(c - 0.5) < 0.05) & (z < -1.0)
-    near = pfaff & (np.abs(c - 0.5) < _DEGENERATE)
-    pfaff &= ~near
-    d = ~pfaff & ~near
-    out[d] = hyp2f1(-0.5, c[d], c[d] + 1, z[d])
-    if pfaff.any():
-        out[pfaff] = _pfaff(c[pfaff], z[pfaff])
-    if near.any():
-        zn, t = z[near], c[near] - 0.5
-        acc = np.zeros(zn.shape)
-        for j, xj in enumerate(_NODES):  # Lagrange's form on the five nodes
-            w = np.ones(zn.shape)
-            for m, xm in enumerate(_NODES):
-                if m != j:
-                    w *= (t - xm) / (xj - xm)
-            acc += w * _pfaff(np.full(zn.shape, 0.5 + xj), zn)
-        out[near] = acc
-    return out
+class _Series(NamedTuple):
+    """The coefficients of ``_F``'s series for given c (rows: terms; columns: scenes, or one column for a class
+    of scenes sharing c)."""
+    c: np.ndarray
+    p: np.ndarray  # Pfaff's coefficients at c
+    j: np.ndarray  # contiguous steps from c0 = c − j to c (0 for c ≤ C_SERIES)
+    g: np.ndarray  # b_m/e_m at c0 (0 at m = m*)
+    mstar: np.ndarray  # m* = ⌊c0 + 1⌋, where |e_m| ≤ ½
+    estar: np.ndarray
+    bstar: np.ndarray
+    const: np.ndarray  # G_c0(1) + Σ_(m≠m*) b_m ½^(e_m)/e_m
 
 
-def _H(x: np.ndarray, phi0: np.ndarray, psi0: np.ndarray, beta: np.ndarray, d: np.ndarray) -> np.ndarray:
-    """τ(0) − τ(U) = ∫_0^U u^(β−1) √(ψ0² + φ0² u^(2d)) du as a function of x = U^β (module docstring)."""
+def _series(c: np.ndarray) -> _Series:
+    """``_F``'s coefficients for the c of a 1-D array (comment above ``C_SERIES``), as many terms as the bounds
+    there need for these c (to 2^-56 of F, which is ≥ √(1 + w) max(c/(c + ½), 1/√2))."""
+    c = np.asarray(c, dtype=float)
+    big = c >= C_BIG
+    j = np.where(big, 0.0, np.maximum(np.ceil(c - C_SERIES), 0.0))
+    c0 = np.where(big, C_SERIES, c - j)  # (unused from C_BIG: kept finite)
+    p = _pfaff_terms(c, np.where(big, 1.0 / c, 2 * np.sqrt(2.0)), big)
+    p0 = p if not j.any() else _pfaff_terms(c0, np.full(c.shape, 2 * np.sqrt(2.0)), np.zeros(c.shape, bool))
+    mstar = np.floor(c0 + 1)
+    rows, bstar, b = [], np.zeros(c.shape), np.ones(c.shape)
+    weight = 2 ** (c0 + 1) * (c0 + 0.5)  # the tail bound 2^(c0+1) (c0 + ½) |g_K| 2^−K, from K > c0 + 1
+    for m in range(N_SPLIT):
+        star = mstar == m
+        gm = np.where(star, 0.0, b / np.where(star, 1.0, m - c0 - 0.5))
+        bstar = np.where(star, b, bstar)
+        rows.append(gm)
+        if np.all((m > c0 + 1) & (weight * np.abs(gm) * 0.5**m <= 2.0**-56)):
+            break
+        b = b * ((m + 1 - c0) / (m + 1))
+    g = np.array(rows)
+    const = np.sqrt(2.0) * _horner(p0, 0.5) / c0 + 2 ** (c0 + 0.5) * _horner(g, 0.5)
+    return _Series(c, p, j, g, mstar, mstar - c0 - 0.5, bstar, const)
+
+
+def _pfaff_terms(c: np.ndarray, weight: np.ndarray, big: np.ndarray) -> np.ndarray:
+    """Pfaff's coefficients p_n (rows) for the c of a 1-D array, up to the bound of the comment above
+    ``C_SERIES``: weight |p_K| 2^−K (y ≤ ½) or, where ``big``, weight |p_K| (K + c) (any y ≤ 1)."""
+    rows, t = [np.ones(c.shape)], np.ones(c.shape)
+    for n in range(N_PFAFF - 1):
+        t = t * ((n - 0.5) / (n + c + 1))
+        rows.append(t)
+        if np.all(weight * np.abs(t) * np.where(big, n + 1 + c, 0.5 ** (n + 1)) <= 2.0**-56):
+            break
+    return np.array(rows)
+
+
+@lru_cache(maxsize=64)
+def _class_series(c: float) -> _Series:
+    """``_series`` for one c, as columns that broadcast."""
+    return _series(np.array([c]))
+
+
+CLASS_ULPS = 8  # c's within 8 min(1 + 2c, 8) ulps of one another are one class: c = β/(2(α − β)) carries that
+# much rounding, α/(α − β) = 1 + 2c amplifying that of α and β (k = k′ = 2.5 on the cloth: 1.25 ± 14 ulps);
+# F, whose elasticity in c is below 1, moves by less than half that spread (tests/test_slip_kernel.py)
+
+
+def _series_of(c: np.ndarray) -> _Series:
+    """``_F``'s coefficients for the c of a 1-D array: one column, at the middle of their range, where they
+    agree to their rounding (c = k/2 on the cushion, and on the cloth whenever k = k′: ``CLASS_ULPS``; F moves
+    by less than that relative to c), else one per element."""
+    c = np.asarray(c, dtype=float)
+    if c.size:
+        lo, hi = float(np.min(c)), float(np.max(c))
+        if hi - lo <= CLASS_ULPS * min(1 + 2 * hi, 8.0) * np.spacing(hi):
+            return _class_series(lo + 0.5 * (hi - lo))
+    return _series(c)
+
+
+def _cols(a: np.ndarray, i: np.ndarray | slice) -> np.ndarray:
+    """The columns ``i`` of a coefficient array, or the one column that broadcasts."""
+    return a if a.shape[-1] == 1 else a[..., i]
+
+
+def _take(s: _Series, i: np.ndarray | slice) -> _Series:
+    return s if s.p.shape[-1] == 1 else _Series(*(_cols(a, i) for a in s))
+
+
+def _F(c: np.ndarray | None, z: np.ndarray, series: _Series | None = None) -> np.ndarray:
+    """₂F₁(−½, c; c + 1; z) for c > 0, z ≤ 0, to a few ulps (comment above ``C_SERIES``); ``series``: the
+    coefficients for c (``_series_of``) if known, one column or one per element."""
+    z = np.asarray(z, dtype=float)
+    if series is None:  # (c may be None when ``series`` is given)
+        c, z = np.broadcast_arrays(np.asarray(c, dtype=float), z)
+        series = _series_of(c.ravel())
+    shape, w, s = z.shape, -z.ravel(), series
+    if w.size == 0:
+        return np.empty(shape)
+    pfaff = (w <= 1) | (s.c >= C_BIG)
+    if pfaff.all():
+        return _pfaff_sum(w, s.p).reshape(shape)
+    if not pfaff.any():
+        return _split_sum(w, s).reshape(shape)
+    if s.p.shape[-1] > 1:  # a column per element: both series on every element (cheaper than gathering columns)
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            return np.where(pfaff, _pfaff_sum(w, s.p), _split_sum(np.maximum(w, 1.0), s)).reshape(shape)
+    out = np.empty(w.shape)
+    i = np.nonzero(pfaff)[0]
+    out[i] = _pfaff_sum(w[i], s.p)
+    i = np.nonzero(~pfaff)[0]
+    out[i] = _split_sum(w[i], s)
+    return out.reshape(shape)
+
+
+def _pfaff_sum(w: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """F by Pfaff's series (w ≤ 1, or c ≥ C_BIG; comment above ``C_SERIES``), coefficients ``p``."""
+    return np.sqrt(1 + w) * _horner(p, w / (1 + w))
+
+
+def _split_sum(w: np.ndarray, s: _Series) -> np.ndarray:
+    """F for w ≥ 1 by the series in v = 1/(1 + w), then the contiguous relation (comment above ``C_SERIES``)."""
+    j, es = s.j, s.estar
+    c0 = s.c - j
+    v, root, lw = 1 / (1 + w), np.sqrt(1 + w), np.log(w)
+    L = np.log((1 + w) * 0.5)  # ln(½/v)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        E = np.where(es == 0, L, np.expm1(es * L) / es)
+    f = c0 * (np.exp(-c0 * lw) * s.const + root * np.exp(c0 * np.log1p(1 / w))
+              * (s.bstar * v**s.mstar * E - _horner(s.g, v)))
+    for step in range(int(np.max(j))):  # the contiguous relation up to c
+        cc = c0 + step
+        f = np.where(j > step, (cc + 1) / (cc + 1.5) * (root * (1 + 1 / w) - f / w), f)
+    return f
+
+
+def _H(x: np.ndarray, phi0: np.ndarray, psi0: np.ndarray, beta: np.ndarray, d: np.ndarray,
+       series: _Series | None = None) -> np.ndarray:
+    """τ(0) − τ(U) = ∫_0^U u^(β−1) √(ψ0² + φ0² u^(2d)) du as a function of x = U^β (module docstring);
+    ``series``: ``_F``'s coefficients for c = β/(2d)."""
     c = beta / (2 * d)
-    return psi0 * x / beta * _F(c, -((phi0 / psi0) ** 2) * x ** (1 / c))
+    return _H_of(x, x ** (1 / c), (phi0 / psi0) ** 2, psi0 / beta, _series_of(c) if series is None else series)
 
 
-def _solve_x(F0: np.ndarray, S0: np.ndarray, B: np.ndarray, D: np.ndarray, target: np.ndarray,
-             total: np.ndarray, x0: np.ndarray | None = None) -> np.ndarray:
+def _H_of(x: np.ndarray, u: np.ndarray, r2: np.ndarray, scale: np.ndarray, series: _Series) -> np.ndarray:
+    """``_H`` from u = x^(2d/β) = U^(2d), r2 = (φ0/ψ0)² and scale = ψ0/β."""
+    return scale * x * _F(None, -r2 * u, series)
+
+
+def _solve_x(target: np.ndarray, total: np.ndarray, e2: np.ndarray, r2: np.ndarray, scale: np.ndarray,
+             series: _Series, x0: np.ndarray | None = None, h0: np.ndarray | None = None
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """x in (0, 1] with H(x) = target, 0 < target < H(1) = total, by Newton's method on G(y) = ln H(e^y) − ln
     target, y = ln x. G is increasing and convex (its slope x H′(x)/H(x), the elasticity of H, grows from 1 near
     x = 0 to 1 + 2d/β where φ dominates), so Newton from y = 0 descends monotonically onto the root without
@@ -80,35 +217,45 @@ def _solve_x(F0: np.ndarray, S0: np.ndarray, B: np.ndarray, D: np.ndarray, targe
     mass ratio of 1e6 on the cloth). Stops when the step moves x by less than ``NEWTON_RTOL`` of itself or the
     residual is below it of H(1), or when a step below ``NEWTON_FLOOR`` fails to halve (Newton converges
     quadratically until the noise of H stops it); raises past ``NEWTON_MAXITER`` steps. A start ``x0`` left of
-    the root costs one step more: by convexity the first step lands right of it."""
+    the root costs one step more: by convexity the first step lands right of it. ``e2``, ``r2``, ``scale``
+    and ``series`` as in ``_H_of`` (u = x^e2; H′(x) = scale √(1 + r2 u)); ``h0``: H(x0) where known (nan
+    elsewhere; a previous root's target). Returns x, H(x) and u."""
     if x0 is None:
-        x, h = np.ones_like(F0), total.copy()
+        x, h = np.ones_like(total), total.copy()
     else:
         x = np.where(np.isfinite(x0) & (x0 > 0), np.minimum(x0, 1.0), 1.0)  # a slip that stopped: start at 1
-        h = _H(x, F0, S0, B, D)
+        h = np.array(h0, dtype=float) if h0 is not None else np.full(x.shape, np.nan)
+        h[x != x0] = np.nan  # the start moved: its H is not known
+        k = np.nonzero(np.isnan(h))[0]
+        if k.size:
+            h[k] = _H_of(x[k], x[k] ** e2[k], r2[k], scale[k], _take(series, k))
         cold = ~(h > 0)  # H underflowed at a tiny start: the logarithm needs H > 0
         x[cold], h[cold] = 1.0, total[cold]
+    u = x ** e2
     live = np.ones(x.shape, dtype=bool)
     last = np.full(x.shape, np.inf)  # the previous step's size
+    gather = series.p.shape[-1] == 1  # else the scenes that converged step on, unchanged (gathering the
+    # coefficients of the live ones would cost more)
     for _ in range(NEWTON_MAXITER):
-        i = np.nonzero(live)[0]
-        if i.size == 0:
-            return x
-        slope = np.sqrt(S0[i] ** 2 + F0[i] ** 2 * x[i] ** (2 * D[i] / B[i])) / B[i]  # dH/dx
-        elasticity = x[i] * slope / h[i]  # dG/dy
-        step = (np.log(h[i]) - np.log(target[i])) / elasticity
-        xn = np.minimum(x[i] * np.exp(-step), 1.0)
-        x[i] = xn
-        h[i] = _H(xn, F0[i], S0[i], B[i], D[i])
+        if not live.any():
+            return x, h, u
+        i = np.nonzero(live)[0] if gather and not live.all() else slice(None)
+        xi, ri, si, lv = x[i], r2[i], scale[i], live[i]
+        elasticity = xi * si * np.sqrt(1 + ri * u[i]) / h[i]  # dG/dy = x H′(x)/H
+        step = np.where(lv, (np.log(h[i]) - np.log(target[i])) / elasticity, 0.0)
+        xn = np.minimum(xi * np.exp(-step), 1.0)
+        un = xn ** e2[i]
+        hn = _H_of(xn, un, ri, si, _take(series, i))
+        x[i], u[i], h[i] = xn, un, hn
         size = np.abs(step)
-        done = ((size <= NEWTON_RTOL) | (np.abs(h[i] - target[i]) <= NEWTON_RTOL * total[i])
+        done = ((size <= NEWTON_RTOL) | (np.abs(hn - target[i]) <= NEWTON_RTOL * total[i])
                 | ((size <= NEWTON_FLOOR) & (size >= 0.5 * last[i])))  # stalled at the noise of H
-        last[i] = size
-        live[i[done]] = False
+        last[i] = np.where(lv, size, last[i])
+        live[i] = lv & ~done
     if live.any():
         raise ArithmeticError(f"slip decay: Newton did not converge in {NEWTON_MAXITER} steps for "
                               f"{int(live.sum())} scene(s)")
-    return x
+    return x, h, u
 
 
 class SlipDecay:
@@ -125,38 +272,69 @@ class SlipDecay:
         self.only_s = (self.f0 == 0) & ~self.only_f
         self.iso = (self.a == self.b) & ~self.only_f & ~self.only_s
         self.gen = ~self.only_f & ~self.only_s & ~self.iso
-        self.total = np.full(self.f0.shape, np.nan)
         g = self.gen
-        self.total[g] = _H(np.ones(int(g.sum())), self.f0[g], self.s0[g], self.b[g], self.a[g] - self.b[g])
+        d = np.where(g, self.a - self.b, 1.0)  # (elsewhere unused: kept finite)
+        b, s0 = np.where(g, self.b, 1.0), np.where(g, self.s0, 1.0)
+        c = b / (2 * d)
+        # per scene, for ``_H_of``: u = x^e2, H(x) = scale x F(c, −r2 u); ``_F``'s coefficients, one column per
+        # scene or one for all (``_series_of``: the other scenes take the first general scene's c)
+        self.e2, self.r2, self.scale = 1 / c, (self.f0 / s0) ** 2, s0 / b
+        self.series = _series_of(np.where(g, c, c[np.argmax(g)])) if g.any() else None
+        self.total = np.where(g, self.scale * _F(None, -self.r2, self.series), np.nan) if g.any() else \
+            np.full(g.shape, np.nan)
+        self.special = not g.all()  # scenes with an elementary decay
+        self.swapped = bool(self.swap.any())
+        self.xlast, self.hlast = np.full(g.shape, np.nan), np.full(g.shape, np.nan)  # the last root, its H
+        self.everyone = np.arange(g.size)
 
     def at(self, tau: np.ndarray, idx: np.ndarray, x0: np.ndarray | None = None
            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(|φ1|, |ψ1|, x) for the scenes ``idx`` after the impulses ``tau``; x = U^β where the slip turns
-        (nan elsewhere); ``x0`` a start for the Newton solve (nan: none)."""
-        f0, s0, a, b, T = self.f0[idx], self.s0[idx], self.a[idx], self.b[idx], np.asarray(tau, dtype=float)
-        f1, s1 = np.zeros_like(f0), np.zeros_like(s0)
-        x = np.full(f0.shape, np.nan)
-        o = self.only_f[idx]
-        f1[o] = np.maximum(f0[o] - a[o] * T[o], 0.0)
-        o = self.only_s[idx]
-        s1[o] = np.maximum(s0[o] - b[o] * T[o], 0.0)
-        o = self.iso[idx]
-        v0 = np.hypot(f0[o], s0[o])
-        shrink = np.maximum(v0 - a[o] * T[o], 0.0) / v0
-        f1[o], s1[o] = f0[o] * shrink, s0[o] * shrink
-        g = self.gen[idx]
-        if g.any():
-            F0, S0, B, D, Tg, total = f0[g], s0[g], b[g], a[g] - b[g], T[g], self.total[idx][g]
-            xg = np.zeros_like(F0)
-            xg[Tg <= 0] = 1.0
+        (nan elsewhere); ``x0`` a start for the Newton solve (nan: none). A start that is the scene's last root
+        reuses its H (the last target), which saves an evaluation."""
+        T = np.asarray(tau, dtype=float)
+        f0, s0 = self.f0[idx], self.s0[idx]
+        if self.special:
+            f1, s1, x = np.zeros_like(f0), np.zeros_like(s0), np.full(f0.shape, np.nan)
+            a, b = self.a[idx], self.b[idx]
+            o = self.only_f[idx]
+            f1[o] = np.maximum(f0[o] - a[o] * T[o], 0.0)
+            o = self.only_s[idx]
+            s1[o] = np.maximum(s0[o] - b[o] * T[o], 0.0)
+            o = self.iso[idx]
+            v0 = np.hypot(f0[o], s0[o])
+            shrink = np.maximum(v0 - a[o] * T[o], 0.0) / v0
+            f1[o], s1[o] = f0[o] * shrink, s0[o] * shrink
+            g = self.gen[idx]
+            gi, F0, S0, Tg = idx[g], f0[g], s0[g], T[g]
+        else:
+            g, gi, F0, S0, Tg = slice(None), idx, f0, s0, T
+            if not F0.size:
+                return f0.copy(), s0.copy(), np.full(f0.shape, np.nan)
+        if F0.size:
+            total = self.total[gi]
+            xg = np.where(Tg <= 0, 1.0, 0.0)
+            ug = xg.copy()  # u = x^(2d/β): φ1 = φ0 x^(α/β) = φ0 x √u
             go = (Tg < total) & (Tg > 0)
             if go.any():
-                start = None if x0 is None else np.asarray(x0)[g][go]
-                if start is not None and not np.all(np.isfinite(start)):
+                go = slice(None) if go.all() else np.nonzero(go)[0]
+                k = gi[go]
+                cols = slice(None) if k.size == self.total.size and np.all(k == self.everyone) else k
+                start = h0 = None
+                if x0 is not None:
+                    start = np.asarray(x0)[g][go]
+                    h0 = np.where(start == self.xlast[k], self.hlast[k], np.nan)
                     start = np.where(np.isfinite(start), start, 1.0)
-                xg[go] = _solve_x(F0[go], S0[go], B[go], D[go], total[go] - Tg[go], total[go], start)
-            f1[g], s1[g] = F0 * xg ** (a[g] / B), S0 * xg
-            x[g] = xg
+                sol, hs, ug[go] = _solve_x(total[go] - Tg[go], total[go], self.e2[k], self.r2[k], self.scale[k],
+                                           _take(self.series, cols), start, h0)
+                xg[go] = sol
+                self.xlast[k], self.hlast[k] = sol, hs
+            if not self.special:
+                f1, s1, x = F0 * xg * np.sqrt(ug), S0 * xg, xg
+            else:
+                f1[g], s1[g], x[g] = F0 * xg * np.sqrt(ug), S0 * xg, xg
+        if not self.swapped:
+            return f1, s1, x
         sw = self.swap[idx]
         return np.where(sw, s1, f1), np.where(sw, f1, s1), x
 

@@ -70,18 +70,15 @@ def contact_slip(v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, R
 def _apply(M: np.ndarray, Mp: np.ndarray, R: np.ndarray, Rp: np.ndarray, k: np.ndarray, kp: np.ndarray,
            v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, xi: np.ndarray, T: np.ndarray,
            on_cloth: bool) -> tuple[np.ndarray, ...]:
-    """Velocities after the normal impulse ξ and the tangential impulse T (on M′), eqs (2), (2′)."""
-    T3 = np.concatenate([np.zeros_like(T[..., :1]), T], axis=-1)
-    ex = np.zeros_like(v)
-    ex[..., 0] = 1.0
-    dv = -(xi[..., None] * ex + T3) / M[..., None]
-    dvp = (xi[..., None] * ex + T3) / Mp[..., None]
-    if on_cloth:  # the cloth takes the vertical impulses
-        dv[..., 2] = 0.0
-        dvp[..., 2] = 0.0
-    dw = (k / (M * R))[..., None] * np.cross(ex, -T3)
-    dwp = (kp / (Mp * Rp))[..., None] * np.cross(-ex, T3)
-    return v + dv, w + dw, vp + dvp, wp + dwp
+    """Velocities after the normal impulse ξ and the tangential impulse T (on M′), eqs (2), (2′): the impulse
+    −(ξ x̂ + T) on M at R x̂ and ξ x̂ + T on M′ at −R′ x̂, T = (0, T_y, T_z); the moments R x̂ × (−T) and
+    (−R′ x̂) × T are both R(0, T_z, −T_y) (R′ for M′). On the cloth the cloth takes the vertical impulses."""
+    Ty, Tz = T[..., 0], T[..., 1]
+    zero = np.zeros_like(xi)
+    dv = np.stack([-xi / M, -Ty / M, zero if on_cloth else -Tz / M], axis=-1)
+    dvp = np.stack([xi / Mp, Ty / Mp, zero if on_cloth else Tz / Mp], axis=-1)
+    turn = np.stack([zero, Tz, -Ty], axis=-1)
+    return v + dv, w + (k / (M * R))[..., None] * turn, vp + dvp, wp + (kp / (Mp * Rp))[..., None] * turn
 
 
 def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: ArrayLike, kp: ArrayLike,
@@ -107,7 +104,7 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
     cz = (k / M + kp / Mp) if on_cloth else cy
 
     def S_eps(lam: np.ndarray) -> np.ndarray:
-        return (1 + lam**2 * (1 + k)) * (1 + eps) + mu * (1 + lam**2 * (1 + kp)) * (1 + epsp)
+        return _law6_S(lam, k, kp, eps, epsp, mu)
 
     if method == "resal":
         if on_cloth:  # §VI (11)-(15): first order in f
@@ -148,7 +145,8 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
             disc = np.maximum(approach**2 - alpha * beta, 0.0)
             omega1 = np.where(stick, (approach + np.sqrt(disc)) / alpha, omega1)
         else:
-            omega1, converged, final = _cloth_normal_impulse(s0, s0n, approach, omega, M, cy, cz, f, S_eps)
+            omega1, converged, final = _cloth_normal_impulse(s0, s0n, approach, omega, M, cy, cz, f,
+                                                             (k, kp, eps, epsp, mu))
         xi = M * omega1
         if final is None:
             a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
@@ -167,50 +165,60 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
                          codes(batch, PathCode[method.upper()]), regime, label)
 
 
+def _law6_S(lam: np.ndarray, k: np.ndarray, kp: np.ndarray, eps: np.ndarray, epsp: np.ndarray,
+            mu: np.ndarray) -> np.ndarray:
+    """S_ε(λ) of law (6) with λ = |T|/ξ (module docstring; §V eq. (8), §VI)."""
+    return (1 + lam**2 * (1 + k)) * (1 + eps) + mu * (1 + lam**2 * (1 + kp)) * (1 + epsp)
+
+
 FIXED_POINT_RTOL = 1e-13  # convergence of the §VI normal-impulse fixed point, relative to ω1
 FIXED_POINT_MAXITER = 200
 
 
 def _cloth_normal_impulse(s0: np.ndarray, s0n: np.ndarray, approach: np.ndarray, omega: np.ndarray,
                           M: np.ndarray, cy: np.ndarray, cz: np.ndarray, f: np.ndarray,
-                          S_eps: Any) -> tuple[np.ndarray, np.ndarray, tuple[SlipDecay, np.ndarray]]:
+                          law: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray, tuple[SlipDecay, np.ndarray]]:
     """ω1 of law (6) on the cloth (§VI), where λ = |T|/ξ depends on ω1 through the exact slip decay: the root of
     h(ω) = G(λ(ω)) − ω, by the secant method from the first two fixed-point iterates, safeguarded by a bracket
     of the root (bisection where the secant leaves it), until ω moves less than ``FIXED_POINT_RTOL`` of itself
-    or the bracket is that narrow (bounded by
-    ``FIXED_POINT_MAXITER``). Returns ω1, per scene whether it converged, and the slip decay with its last
-    roots (a warm start for the final decay). The slip at the greatest
-    compression does not depend on λ. ``S_eps`` is evaluated on the whole batch (λ per scene)."""
+    or the bracket is that narrow (bounded by ``FIXED_POINT_MAXITER``). Returns ω1, per scene whether it
+    converged, and the slip decay with its last roots (a warm start for the final decay). The slip at the
+    greatest compression does not depend on λ; its root starts the first solve. ``law``: the arguments
+    (k, k′, ε, ε′, M/M′) of ``_law6_S``, on the batch."""
     shape = s0n.shape
     a0, b0 = np.abs(s0[..., 0]).ravel(), np.abs(s0[..., 1]).ravel()
     M, cy, cz, f, approach, s0n = (np.ravel(x) for x in (M, cy, cz, f, approach, s0n))
+    law = tuple(np.ravel(x) for x in law)
     dec = SlipDecay(a0, b0, M * cy, M * cz)
     everyone = np.arange(a0.size)
     a_, b_, _ = dec.at(f * np.ravel(omega), everyone)
     w_c = np.hypot(a_, b_)
-    xs = np.full(a0.size, np.nan)  # the last Newton root per scene: the next solve starts there
+    xs = dec.xlast.copy()  # the last Newton root per scene: the next solve starts there
 
-    def S(lam: np.ndarray) -> np.ndarray:
-        return np.ravel(S_eps(lam.reshape(shape)))
+    def S(lam: np.ndarray, i: np.ndarray | slice) -> np.ndarray:
+        return _law6_S(lam, *(x[i] for x in law))
+
+    # S(λ) = A + Bλ²; a bracket of the root of h = G − ω: h(0+) = G > 0 (λ w_c ≤ λ|s0|), and
+    # G ≤ 2Δ/A + 2λ|s0|/(A + Bλ²) ≤ 2Δ/A + |s0|/√(AB) = hi, so h(hi) ≤ 0
+    A = S(np.zeros_like(f), everyone)
+    B = S(np.ones_like(f), everyone) - A
+    lost = 2 * (s0n - w_c)  # law (6): G = (2Δ + λ·2(|s0| − w))/S(λ)
+
+    def G(lam: np.ndarray, i: np.ndarray) -> np.ndarray:
+        return (2 * approach[i] + lam * lost[i]) / (A[i] + B[i] * lam**2)
 
     def G_of(om: np.ndarray, i: np.ndarray) -> np.ndarray:
-        """G(λ(ω)) on the scenes ``i`` (λ elsewhere left at f: S_eps takes the whole batch)."""
+        """G(λ(ω)) on the scenes ``i``."""
         a1, b1, xs[i] = dec.at(f[i] * om, i, xs[i])
-        lam = f.copy()
-        lam[i] = np.hypot((a0[i] - a1) / cy[i], (b0[i] - b1) / cz[i]) / (M[i] * om)
-        return ((2 * approach + 2 * lam * s0n - 2 * lam * w_c) / S(lam))[i]
+        return G(np.hypot((a0[i] - a1) / cy[i], (b0[i] - b1) / cz[i]) / (M[i] * om), i)
 
-    # a bracket of the root of h = G − ω: h(0+) = G > 0 (λ w_c ≤ λ|s0|), and with S(λ) = A + Bλ²,
-    # G ≤ 2Δ/A + 2λ|s0|/(A + Bλ²) ≤ 2Δ/A + |s0|/√(AB) = hi, so h(hi) ≤ 0
-    A = S(np.zeros_like(f))
-    B = S(np.ones_like(f)) - A
     lo, hi = np.zeros_like(A), (2 * approach / A + s0n / np.sqrt(A * B)) * (1 + 1e-12)
 
     def bracket(om: np.ndarray, h: np.ndarray, i: np.ndarray) -> None:
         lo[i] = np.where(h > 0, np.maximum(lo[i], om), lo[i])
         hi[i] = np.where(h > 0, hi[i], np.minimum(hi[i], om))
 
-    x0 = (2 * approach + 2 * f * s0n - 2 * f * w_c) / S(f)  # λ = f: the first guess
+    x0 = G(f, everyone)  # λ = f: the first guess
     x1 = G_of(x0, everyone)
     bracket(x0, x1 - x0, everyone)
     prev, hprev = x0, x1 - x0
@@ -245,8 +253,9 @@ def _slip_ode(y0: np.ndarray, a_: float, b_: float, tau_max: float, rtol: float,
     scale = float(np.hypot(*y0))
 
     def rhs(_t: float, y: np.ndarray) -> list[float]:
-        n = max(float(np.hypot(*y)), 1e-300)
-        return [-a_ * y[0] / n, -b_ * y[1] / n]
+        y0_, y1_ = y.tolist()  # floats: numpy's scalars cost 5× more per right-hand side
+        n = max(float(np.hypot(y0_, y1_)), 1e-300)
+        return [-a_ * y0_ / n, -b_ * y1_ / n]
 
     def stops(_t: float, y: np.ndarray, e0: np.ndarray = y0 / scale) -> float:
         return float(y @ e0)  # the slip along its initial direction: crosses zero cleanly when it stops
@@ -335,7 +344,7 @@ def _rates_one(M: float, Mp: float, R: float, Rp: float, k: float, kp: float, y:
                on_cloth: bool) -> np.ndarray:
     """``newton_euler_rates`` for one state, in floats (the ODE calls it 10⁵ times): the same vector laws with the
     cross products by x̂ written out (w × R x̂ = R(0, w_z, −w_y), R x̂ × F = R(0, −F_z, F_y))."""
-    _, vy, vz, _, wy, wz, _, pvy, pvz, _, pwy, pwz = (float(c) for c in y)  # the x rates do not enter
+    _, vy, vz, _, wy, wz, _, pvy, pvz, _, pwy, pwz = y.tolist()  # floats; the x rates do not enter
     uy = vy + R * wz - pvy + Rp * pwz  # slip of M's contact point R x̂ on M′'s at −R′ x̂, tangential part
     uz = vz - R * wy - pvz - Rp * pwy
     un = math.hypot(uy, uz)
