@@ -202,15 +202,45 @@ def _render_summary(summaries: list[dict[str, Any]], folders: list[Path]) -> Non
     out_console.print(Text(f"folders: {where}", overflow="ignore"), highlight=False)
 
 
-def _load_experiments(experiments: list[str] | None, all_: bool, out: Path) -> list[Any]:
-    """The experiments named (and with --all every one), each loaded and validated; two of one id are refused."""
-    from reproductions import api
+def _names(experiments: list[str] | None, all_: bool) -> list[str]:
+    """The experiments named, then with --all every other id; none is refused."""
+    from reproductions import locate
 
     names = list(experiments or [])
     if all_:
-        names += [i for i in api.experiment_ids() if i not in names]
+        names += [i for i in locate.experiment_ids() if i not in names]
     if not names:
         raise InputError("arguments", "name an experiment id, a YAML path, or use --all")
+    return names
+
+
+def _is_id(name: str) -> bool:
+    """Whether ``name`` names an experiment by id (configs/<id>.yaml), as ``api.load`` reads it."""
+    from reproductions import locate
+
+    return not locate.names_a_file(name) and name in locate.experiment_ids()
+
+
+def _reusable(names: list[str], out: Path) -> dict[str, dict[str, Any]]:
+    """The summaries of the experiments named by id whose folder in ``out`` was computed from the same config,
+    data files and code (``digest.reusable``): nothing of the physics is imported to know it."""
+    from reproductions import digest, locate
+
+    found = {}
+    for n in names:
+        if _is_id(n):
+            s = digest.reusable(out / n, locate.config_dir() / f"{n}.yaml")
+            if s is not None and s.get("experiment") == n:
+                found[n] = s
+    return found
+
+
+def _load_experiments(names: list[str], out: Path, taken: dict[str, str] | None = None) -> list[Any]:
+    """The experiments ``names``, each loaded and validated; two of one id are refused (``taken``: ids already
+    written by other names, id → name)."""
+    if not names:
+        return []
+    from reproductions import api
     from reproductions.config import MAX_YAML_BYTES, read_input
 
     for n in names:  # a folder, a FIFO or a device named in place of a YAML file: said so, never opened blocking
@@ -218,7 +248,7 @@ def _load_experiments(experiments: list[str] | None, all_: bool, out: Path) -> l
         if p.exists() and not p.is_file() and (p.suffix in (".yaml", ".yml") or n not in api.experiment_ids()):
             read_input(p, "an experiment file (YAML)", MAX_YAML_BYTES)
     exps = [api.load(n) for n in names]
-    seen: dict[str, str] = {}
+    seen: dict[str, str] = dict(taken or {})
     for n, e in zip(names, exps, strict=True):
         if e.id in seen:
             raise InputError(n, f"experiment id '{e.id}' is also the id of {seen[e.id]}: both would write "
@@ -234,7 +264,7 @@ def _print_summaries(experiments: list[str] | None, all_: bool, jobs: int | None
 
     try:
         with api.interruptible():
-            exps = _load_experiments(experiments, all_, Path("results"))
+            exps = _load_experiments(_names(experiments, all_), Path("results"))
             jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, len(exps)))
             with err_console.status("running"):
                 reps = api.parallel_map(api.run, exps, jobs)
@@ -246,6 +276,29 @@ def _print_summaries(experiments: list[str] | None, all_: bool, jobs: int | None
                           soft_wrap=True)
         _exit_now(128 + exc.signum)
     typer.echo(_json(summaries[0] if len(summaries) == 1 else summaries))
+
+
+def _in_order(names: list[str], reused: dict[str, Any], exps: list[Any]) -> list[tuple[str, Any]]:
+    """(name, experiment or None) in the order named: the reused by name, the others as loaded."""
+    it = iter(exps)
+    return [(n, None if n in reused else next(it)) for n in names]
+
+
+def _write_index(out: Path, force: bool, progress: Callable[[str], None]) -> bool:
+    """Render the whole-paper files of ``out`` unless they were rendered from the same experiment folders by the
+    same code (``digest.edition_digest``) and are all there; whether they were written."""
+    from reproductions import digest
+
+    d = digest.edition_digest(p for p in out.iterdir() if p.is_dir() and not p.name.startswith(".")
+                              and (p / "summary.json").is_file())
+    if not force and digest.index_current(out, d):
+        return False
+    from reproductions import edition
+
+    progress("writing the reader's edition")
+    edition.write_index(out)
+    digest.mark_index(out, d)
+    return True
 
 
 @app.command()
@@ -261,11 +314,15 @@ def reproduce(
                                              parser=_count("--jobs", 1, MAX_JOBS, "a number of processes"))] = None,
     verbose: Annotated[bool, typer.Option("--verbose", "-v", help="print every experiment's full table (one "
                                                                   "experiment always does)")] = False,
+    force: Annotated[bool, typer.Option("--force", help="recompute every experiment named, even one whose folder "
+                                                        "in OUT was computed from the same config, data files and "
+                                                        "code (reused otherwise)")] = False,
 ) -> None:
     """Run experiments, compare every printed value, write tables and figures into OUT/<experiment>/ and the
     paper's index, table, reader's edition (index.html) and report.pdf into OUT. One experiment prints its full
-    table; several, a summary. With --json and no --out, only prints: nothing is written."""
-    from reproductions import api, edition, report
+    table; several, a summary. With --json and no --out, only prints: nothing is written. An experiment whose
+    folder was computed from the same config, data files and code is reused, not recomputed (--force)."""
+    from reproductions import processes, report
 
     if as_json and out is None:
         _print_summaries(experiments, all_, jobs)
@@ -273,24 +330,43 @@ def reproduce(
     out = out if out is not None else Path("results")
     folders: list[Path] = []
     try:
-        with api.interruptible():
-            exps = _load_experiments(experiments, all_, out)  # all validated before anything runs or is written
+        with processes.interruptible():
+            names = _names(experiments, all_)
+            reused = {} if force else _reusable(names, out)
+            # all validated before anything runs or is written
+            todo = [n for n in names if n not in reused]
+            loaded = list(zip(todo, _load_experiments(todo, out, {n: n for n in reused}), strict=True))
+            if not force:  # an experiment named by the path of its file: known only once read
+                from reproductions import digest
+
+                for n, e in loaded:
+                    s = digest.reusable(out / e.id, Path(e.path))
+                    if s is not None:
+                        reused[n] = s
+            exps = [e for n, e in loaded if n not in reused]
             report.ensure_writable(out)
             report.clean_stale(out)  # what a killed run (SIGKILL) of ours left behind
-            jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, len(exps)))
+            jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, max(1, len(exps))))
             with err_console.status("") as status:
                 # run all first: a bad data file stops everything before anything is written; figures are drawn
                 # one by one across the processes as their experiment finishes, into a scratch folder
                 scratch = None
                 try:
-                    scratch = report.make_staging(out, "figures")
-                    reps = api.run_and_draw(exps, jobs, scratch, status.update)
+                    written: dict[str, Path] = {}
+                    if exps:
+                        from reproductions import api
+
+                        scratch = report.make_staging(out, "figures")
+                        reps = api.run_and_draw(exps, jobs, scratch, status.update)
                     with report.locked(out):  # another run into the same folder writes before or after, whole
-                        for r in reps:
-                            api.checkpoint()
-                            folders.append(report.write_reproduction(r, out, drawn=scratch / r.experiment.id))
-                        summaries = [json.loads((f / "summary.json").read_text(encoding="utf-8")) for f in folders]
-                        edition.write_index(out)
+                        for e, r in zip(exps, reps if exps else [], strict=True):
+                            processes.checkpoint()
+                            written[e.id] = report.write_reproduction(r, out, drawn=scratch / r.experiment.id)
+                            folders.append(written[e.id])
+                        summaries = [reused[n] if n in reused else
+                                     json.loads((written[e.id] / "summary.json").read_text(encoding="utf-8"))
+                                     for n, e in _in_order(names, reused, exps)]
+                        index = _write_index(out, force, status.update)
                 finally:
                     if scratch is not None:
                         shutil.rmtree(scratch, ignore_errors=True)
@@ -313,10 +389,13 @@ def reproduce(
         for s in summaries:
             _render(s)
     else:
-        _render_summary(summaries, folders)
-    err_console.print(f"wrote {len(summaries)} experiment(s) and the reader's edition {out / 'index.html'} (on "
-                      f"paper: {out / 'report.pdf'}), with {out / 'index.md'} and "
-                      f"{out / 'paper-table'}.{{md,csv,tex}}", soft_wrap=True)
+        _render_summary(summaries, [out / s["experiment"] for s in summaries])
+    done = ([f"wrote {len(folders)} experiment folder(s)"] if folders else []) + (
+        [f"reused {len(reused)} unchanged (--force recomputes them)"] if reused else [])
+    edition_files = (f"the reader's edition {out / 'index.html'} (on paper: {out / 'report.pdf'}), with "
+                     f"{out / 'index.md'} and {out / 'paper-table'}.{{md,csv,tex}}")
+    done.append(f"wrote {edition_files}" if index else f"kept {edition_files}: their inputs are unchanged")
+    err_console.print("; ".join(done), soft_wrap=True)
 
 
 @app.command()
@@ -773,12 +852,20 @@ def bench(
         rows = []
         for r in mod["paths"]:
             e = r["where_exact"]["max_error"]
-            rows.append(([r["path"], r["kind"], f"{r['scenes_per_second']:.3g}", "—" if e is None else f"{e:.2e}",
+            n1 = r.get("n1_seconds")
+            rows.append(([r["path"], r["kind"], f"{r['scenes_per_second']:.3g}",
+                          "—" if n1 is None or not math.isfinite(n1) else f"{n1 * 1e6:.3g}",
+                          "—" if e is None else f"{e:.2e}",
                           ("wrong" if wrong else "right") if r["path"] == "auto" else ""], ""))
         groups.append((mod["model"], rows))
-    _print_grouped("work-precision: scenes per second; max error where the path declares itself exact; auto: "
-                   "wrong if another exact path is faster and as accurate",
-                   ("model / path", "kind", "scenes/s", "max error", "auto"), groups, right=(2, 3))
+    _print_grouped("work-precision: scenes per second in a batch; µs for one scene (N = 1); max error where the "
+                   "path declares itself exact; auto: wrong if another exact path is faster and as accurate",
+                   ("model / path", "kind", "scenes/s", "N=1 µs", "max error", "auto"), groups, right=(2, 3, 4))
+    if "make_all" in rep:
+        ma = rep["make_all"]
+        out_console.print(f"make all (reproduce --all), median of {ma['repeat']}: {ma['cold']['median_wall']:.2f} s "
+                          f"recomputing everything, {ma['cached']['median_wall']:.2f} s with nothing changed",
+                          highlight=False)
     err_console.print(f"wrote {', '.join(str(p) for p in written[:2])} and {len(written) - 2} figure files")
 
 

@@ -36,6 +36,8 @@ FULL = {"n_fast": 100_000, "n_ode": 40, "repeat": 3, "solvers": ("RK45", "DOP853
 QUICK = {"n_fast": 2_000, "n_ode": 3, "repeat": 1, "solvers": ("RK45", "DOP853"), "rtols": (1e-6,)}
 GRID_SCENES = 12
 REFERENCE = ("DOP853", 1e-13)  # the reference the closed forms are judged against: the ODE path, tightened
+N1_REPEAT = 300  # repeats of one scene (N = 1) through a closed form: its minimum is the cost without the noise
+MAKE_ALL_REPEAT = 3  # `resal reproduce --all`, recomputed and reused: the median of this many runs each
 FASTER = 1.5  # "faster" in the Pareto verdict: by at least this factor (paths of equal cost differ by timing noise)
 
 
@@ -136,12 +138,18 @@ def model_rows(m: paths.Model, n_fast: int, n_ode: int, repeat: int, seed: int =
         # what it costs auto to know that this path is exact for a scene (its declared predicate)
         t_pred = _best_of(lambda b=batch, q=p: q.exact_when(b), repeat) if count and p is not None else 0.0
         floor = _floor(m, batch, res_batch, repeat) if count else np.nan
+        # one scene (N = 1), the first of the small batch that the path handles: what a user waiting on one
+        # `resal simulate` or one `api.simulate` call pays, overhead included
+        first = np.flatnonzero(keep)[:1]
+        one = _take(m, small, np.isin(np.arange(n_ode), first)) if first.size else None
+        t_one = (_best_of(lambda b=one, n=name: paths.solve(m, b, n), 1 if ode_cost else N1_REPEAT)
+                 if one is not None else np.nan)
         rows.append({
             "path": name, "kind": "auto" if p is None else p.kind.value, "cost": None if p is None else p.cost,
             "declared_accuracy": None if p is None else p.accuracy, "reference": ref_name,
             "reference_method": tight_label if ref_name == "ode" else f"{exact_name} path",
             "scenes_timed": count, "seconds_per_scene": t / max(count, 1), "scenes_per_second": count / t,
-            "predicate_seconds_per_scene": t_pred / max(count, 1),
+            "predicate_seconds_per_scene": t_pred / max(count, 1), "n1_seconds": t_one,
             "floor_fraction": floor / t, "where_exact": _stats(err[exact]) | {"scenes": int(exact.sum())},
             "all_scenes": _stats(err) | {"scenes": int(err.size)},
         })
@@ -249,6 +257,40 @@ def direct_impact_curve(n: int, repeat: int) -> list[dict]:
     return out
 
 
+def make_all_times(repeat: int = MAKE_ALL_REPEAT, progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+    """``resal reproduce --all`` (``make all``) as a user runs it, a new process each time, into a scratch folder:
+    ``cold``, everything recomputed (``--force``: the experiments, their figures and the reader's edition), then
+    ``cached``, nothing changed (every folder reused). Wall and CPU seconds (the process's own and its workers'),
+    each run and their median."""
+    import os
+    import resource
+    import statistics
+    import subprocess
+    import tempfile
+
+    def once(out: str, *extra: str) -> dict[str, float]:
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        proc = subprocess.run([sys.executable, "-m", "cli.main", "reproduce", "--all", "--out", out, *extra],
+                              capture_output=True, text=True, env=os.environ | {"COLUMNS": "80"})
+        wall = time.perf_counter() - t0
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if proc.returncode != 0:
+            raise RuntimeError(f"resal reproduce --all failed ({proc.returncode}): {proc.stderr.strip()[-500:]}")
+        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+        return {"wall": wall, "cpu": cpu}
+
+    out: dict[str, Any] = {"repeat": repeat, "command": "resal reproduce --all --out <scratch> [--force]"}
+    with tempfile.TemporaryDirectory(prefix="resal-bench-") as tmp:
+        for what, extra in (("cold", ("--force",)), ("cached", ())):
+            if progress:
+                progress(f"make all: {what}")
+            runs = [once(tmp, *extra) for _ in range(repeat)]
+            out[what] = {"runs": runs, "median_wall": statistics.median(r["wall"] for r in runs),
+                         "median_cpu": statistics.median(r["cpu"] for r in runs)}
+    return out
+
+
 def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str], None] | None = None) -> dict:
     """The benchmark report (``bench.json``): per model its paths and Pareto verdict, and the machine."""
     cfg = QUICK if quick else FULL
@@ -269,11 +311,22 @@ def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str
     if "direct-impact" in chosen:
         report["direct_impact_ode_tolerances"] = direct_impact_curve(cfg["n_ode"], cfg["repeat"])
     report["closed_forms_by_hand"] = by_hand(cfg["n_fast"], cfg["repeat"])
+    if progress:
+        progress("one scene (N = 1): where its time goes")
+    from .mechanics import timing
+
+    report["n1"] = timing.n1_times(chosen, repeat=200 if quick else 3000)
+    if not quick and not models:  # the whole command, as a user waits on it (seconds each: not in --quick)
+        report["make_all"] = make_all_times(progress=progress)
     return report
 
 
 def _e(x: float | None) -> str:
     return "—" if x is None else f"{x:.2e}"
+
+
+def _us(seconds: float | None) -> str:
+    return "—" if seconds is None or not np.isfinite(seconds) else f"{seconds * 1e6:.3g}"
 
 
 # the error measure of each model (``Model.error``): the outputs compared, over the scale that makes them relative
@@ -342,13 +395,13 @@ def write(report: dict, out: Path) -> list[Path]:
     lines = ["# Work-precision benchmark", "", f"Timer: {report['timer']}. Machine: {report['machine']}.", ""]
     for mod in report["models"]:
         lines += [f"## {mod['model']} ({mod['section']})", "",
-                  "| path | kind | reference | scenes/s | floor fraction | max error where exact | median | "
-                  "max error, all scenes | failures |", "|---|---|---|---|---|---|---|---|---|"]
+                  "| path | kind | reference | scenes/s | floor fraction | N = 1 (µs) | max error where exact | "
+                  "median | max error, all scenes | failures |", "|---|---|---|---|---|---|---|---|---|---|"]
         for r in mod["paths"]:
             w, a = r["where_exact"], r["all_scenes"]
             lines.append(f"| {r['path']} | {r['kind']} | {r['reference']} | {r['scenes_per_second']:.3g} | "
-                         f"{r['floor_fraction']:.2g} | {_e(w['max_error'])} | {_e(w['median_error'])} | "
-                         f"{_e(a['max_error'])} | {a['failures']} |")
+                         f"{r['floor_fraction']:.2g} | {_us(r['n1_seconds'])} | {_e(w['max_error'])} | "
+                         f"{_e(w['median_error'])} | {_e(a['max_error'])} | {a['failures']} |")
         lines += ["", "ODE path, scipy solvers × tolerances (error against the exact path):", "",
                   "| solver | rtol | seconds per scene | median error | max error | failures |",
                   "|---|---|---|---|---|---|"]
@@ -373,6 +426,20 @@ def write(report: dict, out: Path) -> list[Path]:
               "| model | path (scenes/s) | by hand (scenes/s) | slowdown |", "|---|---|---|---|"]
     lines += [f"| {r['model']} | {r['path_scenes_per_second']:.3g} | {r['hand_scenes_per_second']:.3g} | "
               f"{r['slowdown']:.2f}× |" for r in report["closed_forms_by_hand"]]
+    lines += ["", "## One scene (N = 1) through `auto`: where the time goes (µs, minimum over repeats)", "",
+              "`paths.solve(model, model.scene(values), \"auto\")` for the model's defaults and typical coefficients; "
+              "the parts are timed apart, so they add up to the total only to within the timer's noise.", "",
+              "| model | path | total | scene | dispatch | physics | result assembly |",
+              "|---|---|---|---|---|---|---|"]
+    lines += [f"| {name} | {r['path']} | {r['total']:.3g} | {r['scene']:.3g} | {r['dispatch']:.3g} | "
+              f"{r['physics']:.3g} | {r['assembly']:.3g} |" for name, r in report.get("n1", {}).items()]
+    if "make_all" in report:
+        ma = report["make_all"]
+        lines += ["", f"## `make all` (`{ma['command']}`), median of {ma['repeat']} runs", "",
+                  "| run | wall (s) | CPU (s) | each run, wall (s) |", "|---|---|---|---|"]
+        for what in ("cold", "cached"):
+            each = ", ".join(f"{r['wall']:.2f}" for r in ma[what]["runs"])
+            lines.append(f"| {what} | {ma[what]['median_wall']:.2f} | {ma[what]['median_cpu']:.2f} | {each} |")
     (out / "bench.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
     return written
 

@@ -30,7 +30,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any, BinaryIO
 
-from . import __version__
+from . import __version__, digest
 from .config import REASONS
 from .errors import InputError
 from .results import FigureSpec, Reproduction
@@ -84,11 +84,13 @@ def code_provenance() -> dict[str, Any]:
 
 
 def provenance(rep: Reproduction) -> dict[str, Any]:
-    """Version, git commit, config hash and library versions; golden comparisons ignore this block."""
+    """Version, git commit, config hash, library versions and the digest of what the folder is computed from
+    (``digest.record``: a later run with the same digest reuses the folder); golden comparisons ignore this block."""
     c = code_provenance()
     return {"version": c["version"], "git_commit": c["git_commit"], "dirty": c["dirty"], "config": rep.experiment.path,
             "config_sha256": rep.experiment.sha256, "python": c["python"], "numpy": c["numpy"], "scipy": c["scipy"],
-            "dependencies": c["dependencies"], "seed": rep.experiment.seed}
+            "dependencies": c["dependencies"], "seed": rep.experiment.seed,
+            "digest": digest.record(rep.experiment.sha256, rep.experiment.params)}
 
 
 def _figure_files(rep: Reproduction) -> list[str]:

@@ -27,6 +27,7 @@ def test_bench_reports_every_model_and_path_with_its_figures(report):
         assert [r["path"] for r in mod["paths"]] == [p.name for p in m.paths] + ["auto"]
         for r in mod["paths"]:
             assert r["scenes_timed"] > 0 and r["seconds_per_scene"] > 0 and r["reference"] != r["path"]
+            assert r["n1_seconds"] > 0  # one scene timed through every path that handles the first of them
             assert r["all_scenes"]["failures"] == 0
         assert mod["pareto"] and all(v["verdict"] for v in mod["pareto"])
         for ext in ("png", "pdf"):
@@ -37,6 +38,10 @@ def test_bench_reports_every_model_and_path_with_its_figures(report):
         assert {g["solver"] for g in mod["ode_grid"]} == set(rep["config"]["solvers"])
         assert all(g["max_error"] is not None and g["max_error"] < 1e-3 for g in mod["ode_grid"]), mod["model"]
     assert {r["model"] for r in rep["closed_forms_by_hand"]} == {"direct-impact", "plane-impact", "cloth-slide"}
+    assert list(rep["n1"]) == list(registry.MODELS)  # one scene's time split, the path auto chose named
+    for name, r in rep["n1"].items():
+        assert r["path"] in [p.name for p in registry.MODELS[name].paths]
+        assert min(r["total"], r["scene"], r["run"], r["assembly"]) > 0 and r["dispatch"] >= 0
 
 
 def test_bench_files_get_the_mode_of_the_users_umask(report):
@@ -79,3 +84,21 @@ def test_the_hand_written_formulas_are_the_paths_formulas():
 def test_bench_refuses_an_unknown_model():
     res = CliRunner().invoke(app, ["bench", "nope", "--quick"])
     assert res.exit_code == 2 and "unknown model" in res.stderr
+
+
+def test_make_all_is_timed_recomputed_and_reused(monkeypatch, tmp_path):
+    """The full benchmark times `resal reproduce --all` cold and cached (whether the cached run reuses is
+    tests/test_cache.py's); here on a config folder of one cheap experiment, once each."""
+    import shutil
+
+    from reproductions import api, bench
+
+    configs = tmp_path / "configs"
+    configs.mkdir()
+    shutil.copy(api.config_dir() / "marble-drop.yaml", configs)
+    monkeypatch.setenv("RESAL_CONFIGS", str(configs))
+    t = bench.make_all_times(repeat=1)
+    assert t["repeat"] == 1 and set(t) >= {"cold", "cached"}
+    for what in ("cold", "cached"):
+        (run,) = t[what]["runs"]
+        assert run["wall"] > 0 and run["cpu"] > 0 and t[what]["median_wall"] == run["wall"]

@@ -14,7 +14,7 @@ import pytest
 from typer.testing import CliRunner
 
 from cli.main import app
-from reproductions import report
+from reproductions import api, processes, report
 
 ROOT = Path(__file__).resolve().parent.parent
 runner = CliRunner()
@@ -153,7 +153,8 @@ def _without_provenance(summary: bytes) -> str:
 
 def test_two_runs_write_identical_bytes_whatever_the_process_layout(tmp_path):
     """Figures included. The one exclusion: summary.json's provenance block (git commit, whether the checkout is
-    dirty: it can change between two runs while someone edits the tree); every other byte must match. The two
+    dirty, the code's digest: they can change between two runs while someone edits the tree), and so
+    edition-digest.json, a digest of the summaries; every other byte must match. The two
     runs also differ in SOURCE_DATE_EPOCH, which matplotlib would otherwise write into every PDF."""
     runs = {}
     for jobs, epoch in (("1", None), ("2", "86400")):
@@ -173,6 +174,8 @@ def test_two_runs_write_identical_bytes_whatever_the_process_layout(tmp_path):
     for name, data in a.items():
         if Path(name).name == "summary.json":
             assert _without_provenance(data) == _without_provenance(b[name]), name
+        elif name == "edition-digest.json":  # the digest of the summaries, provenance included
+            assert set(json.loads(data)) == set(json.loads(b[name])) == {"digest", "files"}
         else:
             assert data == b[name], name
 
@@ -180,17 +183,16 @@ def test_two_runs_write_identical_bytes_whatever_the_process_layout(tmp_path):
 def test_a_signal_during_a_fork_is_not_lost_but_raised_at_the_next_checkpoint():
     """Raised inside logging's at-fork hook, the interruption was printed as 'Exception ignored' and dropped, and
     the run went on to the end (the SIGTERM test failed that way under load)."""
-    from reproductions import api
     from reproductions.errors import Interrupted
 
     with pytest.raises(Interrupted) as info, api.interruptible():
-        api._FORKING[0] = True
+        processes._FORKING[0] = True
         try:
             os.kill(os.getpid(), signal.SIGTERM)  # lands "inside a fork": recorded, not raised
             time.sleep(0.05)
         finally:
-            api._FORKING[0] = False
+            processes._FORKING[0] = False
         api.checkpoint()
         raise AssertionError("checkpoint did not raise")
     assert info.value.signum == signal.SIGTERM
-    assert api._RECEIVED["signum"] is None  # reset for the next run
+    assert processes._RECEIVED["signum"] is None  # reset for the next run

@@ -42,7 +42,7 @@ def _cmd(*args: object) -> list[str]:
 
 
 def _reproduce(out: Path) -> list[str]:
-    return _cmd("reproduce", EXPERIMENT, "--jobs", "1", "--out", out)
+    return _cmd("reproduce", EXPERIMENT, "--jobs", "1", "--force", "--out", out)  # writes whatever is there
 
 
 def _run(args: list[str], limit: int | None = None) -> subprocess.CompletedProcess[str]:

@@ -1,0 +1,161 @@
+"""Running a long job in processes that a signal stops cleanly: ``interruptible`` turns SIGTERM and SIGINT into
+``Interrupted``, ``checkpoint`` raises one that landed where it could not be raised, and the process pool's workers
+die with their parent. Standard library only (a run that recomputes nothing imports no physics)."""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from typing import Any, TypeVar
+
+from .errors import Interrupted
+
+__all__ = ["checkpoint", "interruptible", "parallel_map", "process_pool"]
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+
+@contextmanager
+def interruptible() -> Iterator[None]:
+    """Within the block, SIGTERM (as SIGINT already does) raises an exception in the main thread:
+    ``Interrupted(signum)`` for either signal, raised once (a repeat during the cleanup is ignored), so that the
+    ``finally`` blocks stop the worker processes and remove the staging folders. Forked workers that inherit
+    the handler before ``_worker_init`` runs die of SIGTERM and ignore SIGINT. Main thread only."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():  # signal handlers belong to the main thread
+        yield
+        return
+    owner = os.getpid()
+    _RECEIVED["signum"] = None
+
+    def handler(signum: int, frame: Any) -> None:
+        if os.getpid() != owner:  # a forked worker, before _worker_init
+            if signum == signal.SIGTERM:
+                signal.signal(signum, signal.SIG_DFL)
+                os.kill(os.getpid(), signum)
+            return
+        if _RECEIVED["signum"] is None:
+            _RECEIVED["signum"] = signum
+            # inside an at-fork hook, a weakref callback, a finaliser or the garbage collector the exception would
+            # be printed ("Exception ignored in …", a traceback) and dropped: there the next ``checkpoint`` raises
+            if not _FORKING[0] and not _in_callback(frame):
+                raise Interrupted(signum)
+
+    # a signal ignored from the start (SIGINT of a background job, `nohup`-like wrappers) stays ignored
+    sigs = [s for s in (signal.SIGINT, signal.SIGTERM) if signal.getsignal(s) is not signal.SIG_IGN]
+    previous = {s: signal.signal(s, handler) for s in sigs}
+    try:
+        yield
+        checkpoint()  # a signal whose exception was swallowed still ends the block as an interruption
+    finally:
+        for s, h in previous.items():
+            signal.signal(s, h)
+        _RECEIVED["signum"] = None
+
+
+def _in_callback(frame: Any) -> bool:
+    """Whether ``frame`` runs inside code whose exceptions Python prints and drops instead of propagating: a
+    weakref callback (``weakref.py``'s ``remove``, seen under SIGTERM in tests/test_hostile_environment.py), a
+    ``__del__`` finaliser, a ``weakref.finalize``."""
+    while frame is not None:
+        code = frame.f_code
+        if code.co_name == "__del__" or code.co_filename.endswith(("weakref.py", "_weakrefset.py")):
+            return True
+        frame = frame.f_back
+    return False
+
+
+_RECEIVED: dict[str, int | None] = {"signum": None}  # the signal ``interruptible`` received, if any
+_FORKING = [False]  # True while this process forks (between the at-fork hooks, ours outermost)
+
+
+def _fork_begins() -> None:
+    _FORKING[0] = True
+
+
+def _fork_ends() -> None:
+    _FORKING[0] = False
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(before=_fork_begins, after_in_parent=_fork_ends, after_in_child=_fork_ends)
+
+
+def checkpoint() -> None:
+    """Raise ``Interrupted`` if a signal came within ``interruptible`` and its exception was not raised. Python
+    prints and drops an exception raised where it cannot propagate: a signal that landed inside the ``logging``
+    module's at-fork hook (the parent forking a worker) was lost that way, with a traceback on stderr, and the run
+    went on to the end (found by the SIGTERM test under load). So the handler does not raise while the process
+    forks, and this raises instead. Called between the steps of a run, never in cleanup code."""
+    if _RECEIVED["signum"] is not None:
+        raise Interrupted(_RECEIVED["signum"])
+
+
+def _worker_init(parent: int) -> None:
+    """In each worker: SIGTERM kills at once (even inside a long numpy call), SIGINT (a Ctrl-C reaches the
+    whole process group) is left to the parent, which stops the workers itself. On Linux the worker also dies
+    with its parent (``PR_SET_PDEATHSIG``): a signal that interrupts the parent while it forks a worker leaves
+    that worker unknown to the pool, and it would wait on the pool's queue for ever, holding the parent's
+    stderr open (a SIGTERM test hung in CI that way under load)."""
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        ctypes.CDLL(None).prctl(1, int(signal.SIGKILL))  # 1 = PR_SET_PDEATHSIG
+    if os.getppid() != parent:  # the parent died before the line above
+        os._exit(1)
+
+
+@contextmanager
+def process_pool(jobs: int) -> Iterator[Any]:
+    """A ``ProcessPoolExecutor`` (fork where available) whose workers are terminated, not waited for, when the
+    block ends by an exception (an interruption, an error of one experiment)."""
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+
+    ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
+    pool = ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_worker_init,
+                               initargs=(os.getpid(),))
+    try:
+        yield pool
+    except BaseException:
+        procs = list((getattr(pool, "_processes", None) or {}).values())
+        for p in procs:
+            p.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        for p in procs:
+            p.join(timeout=10)
+            if p.is_alive():
+                p.kill()
+                p.join(timeout=10)
+        raise
+    pool.shutdown(wait=True)
+
+
+def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
+                 progress: Callable[[int, int], None] | None = None) -> list[R]:
+    """``[fn(x) for x in items]`` on up to ``jobs`` processes, results in the input order; ``progress(done,
+    total)`` is called as items finish. Exceptions (an ``InputError`` from a data file) propagate."""
+    if jobs <= 1 or len(items) <= 1:
+        out = []
+        for i, x in enumerate(items, 1):
+            out.append(fn(x))
+            if progress:
+                progress(i, len(items))
+        return out
+    from concurrent.futures import as_completed
+
+    results: list[R | None] = [None] * len(items)
+    with process_pool(min(jobs, len(items))) as pool:
+        futures = {pool.submit(fn, x): i for i, x in enumerate(items)}
+        for done, fut in enumerate(as_completed(futures), 1):
+            results[futures[fut]] = fut.result()
+            if progress:
+                progress(done, len(items))
+    return results  # type: ignore[return-value]
