@@ -30,7 +30,8 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
                   help="Reproduce H. Résal (1883), 'Commentaire à la théorie mathématique du jeu de billard'.")
 out_console = Console()
 err_console = Console(stderr=True)
-VERDICT_STYLE = {"reproduced": "green", "differs": "bold red", "not-checkable": "yellow"}
+VERDICT_STYLE = {"reproduced": "green", "differs": "bold red", "not-checkable": "yellow", "consistent": "green",
+                 "inconsistent": "bold red", "fitted": "cyan"}
 
 
 
@@ -150,12 +151,19 @@ def _fit_record(by: dict[str, str]) -> list[tuple[str, str]]:
 
 
 def _render(s: dict[str, Any]) -> None:
-    """One experiment's full table (every row) and its fits."""
-    from reproductions.report import HEADERS, row_cells
+    """One experiment's full table (every row), its measured rows and its fits."""
+    from reproductions.report import HEADERS, MEASUREMENT_HEADERS, measurement_cells, row_cells
 
-    _print_rows(f"{s['experiment']}: {s['title']}", HEADERS,
-                [(row_cells(r), VERDICT_STYLE.get(r["verdict"], "")) for r in s["rows"]], ("verdict", "quantity"),
-                lines=True, record=_experiment_record)
+    if s["rows"] or not s.get("measurements"):
+        _print_rows(f"{s['experiment']}: {s['title']}", HEADERS,
+                    [(row_cells(r), VERDICT_STYLE.get(r["verdict"], "")) for r in s["rows"]], ("verdict", "quantity"),
+                    lines=True, record=_experiment_record)
+    if s.get("measurements"):
+        if s["rows"]:
+            out_console.print()
+        _print_rows(f"{s['experiment']}: today's measurements against the paper's mechanics (95 %)",
+                    MEASUREMENT_HEADERS, [(measurement_cells(m), VERDICT_STYLE.get(m["verdict"], ""))
+                                          for m in s["measurements"]], ("verdict", "quantity"), lines=True)
     if s["fits"]:
         out_console.print()
         _print_fits(s["fits"], "fits")
@@ -176,7 +184,8 @@ def _print_items(lead: str, items: list[str], indent: str = "") -> None:
 def _render_summary(summaries: list[dict[str, Any]], folders: list[Path]) -> None:
     """Several experiments: one line each (its verdict counts), the totals, the reasons of the differing rows and
     where the folders are. Each experiment's line stays under 80 columns, unfolded, so that it stays greppable."""
-    from reproductions.report import VERDICTS, verdict_counts
+    from reproductions.config import MEASUREMENT_VERDICTS
+    from reproductions.report import VERDICTS, measurement_counts, verdict_counts
 
     width = max([5, *(len(s["experiment"]) for s in summaries)])
 
@@ -188,15 +197,33 @@ def _render_summary(summaries: list[dict[str, Any]], folders: list[Path]) -> Non
             text.append(v + ("  " if j < len(VERDICTS) - 1 else ""))
         return text
 
-    for s in summaries:
+    def measured_text(s: dict[str, Any]) -> Text:
+        counts = measurement_counts([s])
+        text = Text()
+        for j, v in enumerate(v for v in MEASUREMENT_VERDICTS if counts[v]):
+            text.append(("" if j == 0 else "  ") + f"{counts[v]:>4} ", style=VERDICT_STYLE[v])
+            text.append(v)
+        return text
+
+    printed = [s for s in summaries if s["rows"] or not s.get("measurements")]
+    measured = [s for s in summaries if s.get("measurements")]
+    for s in printed:
         out_console.print(Text(f"{s['experiment']:<{width}} ") + counts_text(s["rows"]), soft_wrap=True,
                           highlight=False)
     rows = [r for s in summaries for r in s["rows"]]
     _, why = verdict_counts(rows)
-    out_console.print(Text(f"{'total':<{width}} ", style="bold") + counts_text(rows) + Text(f" ({len(rows)} rows)"),
-                      soft_wrap=True, highlight=False)
+    if printed:
+        out_console.print(Text(f"{'total':<{width}} ", style="bold") + counts_text(rows)
+                          + Text(f" ({len(rows)} rows)"), soft_wrap=True, highlight=False)
     if why:
         _print_items("differing rows by reason:", [f"{k} {n}" for k, n in why.items()])
+    if measured:  # counted apart: a measurement against the mechanics is not a printed claim
+        n = sum(len(s["measurements"]) for s in measured)
+        out_console.print(Text(f"today's measurements against the paper's mechanics ({n} rows, 95 %):"),
+                          highlight=False)
+        for s in measured:
+            out_console.print(Text(f"{s['experiment']:<{width}} ") + measured_text(s), soft_wrap=True,
+                              highlight=False)
     parents = {f.parent for f in folders}
     where = f"{parents.pop() / '<experiment>'}/" if len(parents) == 1 else ", ".join(map(str, folders))
     out_console.print(Text(f"folders: {where}", overflow="ignore"), highlight=False)

@@ -358,6 +358,27 @@ REASONS = {
 }
 
 
+# the verdict of a measured value against what the paper's mechanics predict (never a printed claim's verdict:
+# the two are counted apart). consistent/inconsistent: at 95 %, the measurement's uncertainty and the prediction's
+# interval both counted; fitted: the measurement fixed a parameter, so it tests nothing; not-checkable: no prediction
+MEASUREMENT_VERDICTS = ("consistent", "inconsistent", "fitted", "not-checkable")
+
+
+@dataclass(frozen=True)
+class Measured:
+    """A published measurement that the experiment's kind predicts from the paper's mechanics; the measured value
+    itself is read from the experiment's data file (never from this entry), and its verdict is one of
+    ``MEASUREMENT_VERDICTS``."""
+
+    id: str
+    computed: str  # which of the kind's comparisons it is
+    quantity: str
+    source: str  # the article (and its table or figure)
+    unit: str
+    where: str
+    note: str = ""
+
+
 # what a finding of the reader's edition says about the paper: the codes a `category:` may take
 FINDINGS = {
     "erratum": "a slip of the 1883 original",
@@ -365,6 +386,7 @@ FINDINGS = {
     "premise": "a premise that fails where the paper applies it",
     "beyond": "what the mechanics show that the paper does not say",
     "holds": "what Résal got right",
+    "measured": "what today's measurements say of the paper's mechanics",
 }
 
 
@@ -376,7 +398,7 @@ class Finding:
     category: str  # a code of FINDINGS
     consequence: int  # 1 (a detail) … 5 (changes what the paper teaches): the first screen ranks by it
     text: str
-    rows: tuple[str, ...]  # printed ids of the same experiment
+    rows: tuple[str, ...]  # printed (or measured) ids of the same experiment
     figure: str | None  # a figure name of the experiment (without extension)
     where: str
 
@@ -396,6 +418,7 @@ class Experiment:
     notes: tuple[str, ...] = field(default=())
     question: str = ""  # the question the experiment answers, for the reader's edition
     findings: tuple[Finding, ...] = field(default=())
+    measured: tuple[Measured, ...] = field(default=())  # published measurements against the paper's mechanics
 
 
 def _finding(node: Node, printed_ids: set[str]) -> Finding:
@@ -412,11 +435,25 @@ def _finding(node: Node, printed_ids: set[str]) -> Finding:
         raise node.fail(f"'{node.path}.rows' must name at least one printed id that carries the finding")
     unknown = [r for r in rows if r not in printed_ids]
     if unknown:
-        raise node.fail(f"'{node.path}.rows' names {', '.join(unknown)}, which are not printed ids of this file",
+        raise node.fail(f"'{node.path}.rows' names {', '.join(unknown)}, which are not printed or measured ids of "
+                        "this file",
                         node._mapping()["rows"])
     figure = node.string("figure") if node.has("figure") else None
     node.done()
     return Finding(fid, category, consequence, text, rows, figure, node.where())
+
+
+def _measured(node: Node, quantities: tuple[str, ...]) -> Measured:
+    mid = node.string("id")
+    computed = node.string("computed", default=mid)
+    if computed not in quantities:
+        at = node._mapping().get("computed", node.node)
+        raise node.fail(f"'{node.path}.computed' names no comparison this kind computes: '{computed}' "
+                        f"(expected one of {', '.join(quantities)})", at)
+    out = Measured(mid, computed, node.string("quantity"), node.string("source"), node.string("unit", default=""),
+                   node.where(), node.string("note", default=""))
+    node.done()
+    return out
 
 
 def _tolerance(value: float, exact: bool, raw: str) -> tuple[float, str]:
@@ -569,11 +606,14 @@ def load_experiment(path: str | Path, kinds: Mapping[str, Any]) -> Experiment:
                         f"(expected some of {', '.join(module.MODERN)})", root._mapping()["modern"])
     params = module.parse(root.child("params"), p.parent)
     quantities = module.quantities(params) if hasattr(module, "quantities") else module.QUANTITIES
-    printed = tuple(_printed(n, quantities) for n in root.children("printed"))
+    measured = tuple(_measured(n, quantities) for n in root.children("measured")) if root.has("measured") else ()
+    printed = (tuple(_printed(n, quantities) for n in root.children("printed"))
+               if root.has("printed") or not measured else ())  # an experiment of measurements alone may print none
     seen: set[str] = set()
-    for x in printed:
+    for x in (*printed, *measured):
         if x.id in seen:
-            raise InputError(x.where, f"printed ids must be unique; repeated: {x.id}")
+            what = "printed ids" if isinstance(x, Printed) else "printed and measured ids"
+            raise InputError(x.where, f"{what} must be unique; repeated: {x.id}")
         seen.add(x.id)
     notes = root.string_list("notes")
     question = root.string("question", default="")
@@ -583,4 +623,4 @@ def load_experiment(path: str | Path, kinds: Mapping[str, Any]) -> Experiment:
         raise root.fail(f"finding ids must be unique; repeated: {sorted({f for f in fids if fids.count(f) > 1})}")
     root.done()
     return Experiment(eid, kind, title, source, printed, params, seed, modern, file,
-                      hashlib.sha256(raw).hexdigest(), notes, question, findings)
+                      hashlib.sha256(raw).hexdigest(), notes, question, findings, measured)

@@ -13,8 +13,8 @@ from pathlib import Path
 from typing import Any
 
 from . import __version__
-from .config import FINDINGS, REASONS
-from .edition_model import Edition, FigureEntry, FindingEntry, Rich, RowEntry, SectionEntry, Span
+from .config import FINDINGS, MEASUREMENT_VERDICTS, REASONS
+from .edition_model import Edition, FigureEntry, FindingEntry, MeasurementEntry, Rich, RowEntry, SectionEntry, Span
 from .report import (
     VERDICTS,
     _atomic_text,
@@ -24,6 +24,8 @@ from .report import (
     computed_text,
     difference_text,
     index_md,
+    interval_text,
+    measurement_counts,
     paper_rows,
     paper_table_csv,
     paper_table_md,
@@ -37,12 +39,24 @@ from .report import (
 __all__ = ["build", "function_of", "index_html", "plain", "readable", "rich_html", "write_index"]
 
 _EXPERIMENTS = Path(__file__).resolve().parent / "experiments"
-_KIND_MODULE = {"spheres": "ballball"}  # a kind whose module is named otherwise
+@functools.cache
+def _kind_modules() -> dict[str, str]:
+    """Kind → the name of its module, read off ``experiments/__init__.py``'s ``KINDS`` table (without importing the
+    physics): ``"spheres": ballball``."""
+    tree = ast.parse((_EXPERIMENTS / "__init__.py").read_text(encoding="utf-8"))
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Assign, ast.AnnAssign)) and isinstance(node.value, ast.Dict):
+            target = node.targets[0] if isinstance(node, ast.Assign) else node.target
+            if isinstance(target, ast.Name) and target.id == "KINDS":
+                return {k.value: v.id for k, v in zip(node.value.keys, node.value.values, strict=True)
+                        if isinstance(k, ast.Constant) and isinstance(v, ast.Name)}
+    return {}
 # a finding's category, short (its badge; the long words of config.FINDINGS are its title) and its badge's colours
 CATEGORY = {"erratum": ("slip of 1883", "differs"), "formula": ("formula wrong", "formula"),
             "premise": ("premise fails", "premise"), "beyond": ("not in the paper", "beyond"),
-            "holds": ("Résal right", "reproduced")}
-VERDICT_LABEL = {"reproduced": "reproduced", "differs": "differs", "not-checkable": "not checkable"}
+            "holds": ("Résal right", "reproduced"), "measured": ("measured today", "beyond")}
+VERDICT_LABEL = {"reproduced": "reproduced", "differs": "differs", "not-checkable": "not checkable",
+                 "consistent": "consistent", "inconsistent": "inconsistent", "fitted": "fitted"}
 _LATEX = {r"\alpha": "α", r"\beta": "β", r"\gamma": "γ", r"\delta": "δ", r"\epsilon": "ε", r"\varepsilon": "ε",
           r"\zeta": "ζ", r"\eta": "η", r"\theta": "θ", r"\lambda": "λ", r"\mu": "μ", r"\nu": "ν", r"\xi": "ξ",
           r"\pi": "π", r"\rho": "ρ", r"\sigma": "σ", r"\tau": "τ", r"\phi": "φ", r"\varphi": "φ", r"\chi": "χ",
@@ -169,7 +183,7 @@ def plain(rich: Rich) -> str:
 def _functions(kind: str) -> dict[str, str]:
     """Quantity key → the innermost function of the kind's module that sets it: a dict key, ``x["key"] = …``,
     ``put("key", …)``; an f-string key (``f"nu.{s.id}"``) counts for its constant prefix, written ``nu.*``."""
-    module = _KIND_MODULE.get(kind, kind)
+    module = _kind_modules().get(kind, kind)
     path = _EXPERIMENTS / f"{module}.py"
     if not path.is_file():
         return {}
@@ -208,7 +222,7 @@ def _functions(kind: str) -> dict[str, str]:
 
 def function_of(kind: str, quantity: str) -> str:
     """The function that computes a quantity of a kind, read off its module's source (``run`` when none names it)."""
-    module = _KIND_MODULE.get(kind, kind)
+    module = _kind_modules().get(kind, kind)
     table = _functions(kind)
     if quantity in table:
         return table[quantity]
@@ -240,6 +254,17 @@ def _row(name: str, s: dict[str, Any], r: dict[str, Any], computed_key: str) -> 
         function=function_of(s["kind"], computed_key))
 
 
+def _measurement(s: dict[str, Any], m: dict[str, Any]) -> MeasurementEntry:
+    cfg = _config_name(s)
+    return MeasurementEntry(
+        experiment=s["experiment"], id=m["id"], anchor=f"{s['experiment']}--{m['id']}",
+        quantity=readable(m["quantity"]), source=m["source"], measured=m["measured_text"] or _fmt(m["measured"]),
+        uncertainty=m["uncertainty"],
+        predicted=_fmt(m["predicted"]), interval=interval_text(m), verdict=m["verdict"], note=readable(m["note"]),
+        config=f"{cfg}:{m['config_line']}" if m.get("config_line") else cfg,
+        function=function_of(s["kind"], m.get("computes") or m["id"]))
+
+
 def _figures(name: str, s: dict[str, Any]) -> tuple[FigureEntry, ...]:
     captions = {c["png"]: c for c in s.get("figure_captions", [])}
     out = []
@@ -258,18 +283,21 @@ def _figures(name: str, s: dict[str, Any]) -> tuple[FigureEntry, ...]:
 def build(summaries: Iterable[tuple[str, dict[str, Any]]]) -> Edition:
     """The edition of a results folder's summaries ((folder name, summary) in the paper's order)."""
     summaries = list(summaries)
-    sections = []
+    sections: list[SectionEntry] = []
+    measured_sections: list[SectionEntry] = []  # the 1883 theory against today's measurements, after the paper
     lines: dict[str, int] = {}
     for name, s in summaries:
         rows = tuple(_row(name, s, r, r.get("computes") or r["id"]) for r in s["rows"])
         for r in s["rows"]:
             lines[f"{s['experiment']}--{r['id']}"] = r.get("line") or 10 ** 6
         page = s["source"].get("page")
-        sections.append(SectionEntry(
+        measured = tuple(_measurement(s, m) for m in s.get("measurements", ()))
+        (measured_sections if measured else sections).append(SectionEntry(
             experiment=s["experiment"], title=s["title"],
             source=s["source"]["section"] + (f", p. {page}" if page else ""),
             question=readable(s.get("question") or ""), figures=_figures(name, s), rows=rows,
-            counts=verdict_counts(s["rows"])[0], folder=name, notes=tuple(readable(n) for n in s.get("notes", []))))
+            counts=verdict_counts(s["rows"])[0], folder=name, notes=tuple(readable(n) for n in s.get("notes", [])),
+            measurements=measured, measurement_counts=measurement_counts([s])))
     findings = []
     for name, s in summaries:
         for f in s.get("findings", []):
@@ -288,6 +316,7 @@ def build(summaries: Iterable[tuple[str, dict[str, Any]]]) -> Edition:
         subtitle=("H. Résal, “Commentaire à la théorie mathématique du jeu de billard”, J. Math. Pures Appl. "
                   "(3) 9 (1883), 65–98: every printed value and claim, recomputed from the paper's own premises"),
         counts=counts, reasons=reasons, findings=tuple(findings), sections=tuple(sections),
+        measured_sections=tuple(measured_sections), measurement_counts=measurement_counts(s for _, s in summaries),
         provenance=f"resal {prov.get('version', __version__)}" + (f", commit {commit[:12]}" if commit else "")
         + (" (uncommitted changes)" if prov.get("dirty") else ""))
 
@@ -343,7 +372,16 @@ article.row.v-reproduced{border-left-color:var(--ok)}
 article.row.v-differs{border-left-color:var(--bad)}
 article.row.v-not-checkable{border-left-color:var(--na)}
 article.row[hidden],figure[hidden],.rows-heading[hidden]{display:none}
-article.row,section.experiment,#findings li{scroll-margin-top:8rem}
+.consistent{color:var(--ok);background:var(--okbg)}
+.inconsistent{color:var(--bad);background:var(--badbg)}
+.fitted{color:#0b3d6b;background:#e2ecf7}
+article.measure{border:1px solid var(--line);border-left:5px solid var(--line);padding:.4rem .7rem;margin:.6rem 0}
+article.measure.v-consistent{border-left-color:var(--ok)}
+article.measure.v-inconsistent{border-left-color:var(--bad)}
+article.measure.v-fitted{border-left-color:#0b3d6b}
+article.measure.v-not-checkable{border-left-color:var(--na)}
+article.row,article.measure,section.experiment,section.measured-experiment,#measured,#findings li{
+scroll-margin-top:8rem}
 .rank{font:600 .8rem/1 system-ui,"DejaVu Sans",sans-serif;color:var(--muted);white-space:nowrap}
 .premise{color:#4b2173;background:#efe6f7}
 .formula{color:#7a3300;background:#fbe9dc}
@@ -355,7 +393,8 @@ dd{margin:0}
 code{font-size:.85em;overflow-wrap:anywhere}
 .printed{font-style:italic}
 @media (max-width:30rem){dl{grid-template-columns:1fr}dt{margin-top:.3rem}body{padding:0 .6rem 3rem}
-.filters{position:static}article.row,section.experiment,#findings li{scroll-margin-top:1rem}}
+.filters{position:static}article.row,article.measure,section.experiment,section.measured-experiment,#measured,
+#findings li{scroll-margin-top:1rem}}
 @media print{.filters{display:none}article.row{break-inside:avoid}}
 """
 
@@ -417,10 +456,25 @@ def _row_html(r: RowEntry) -> str:
             f"<h4>{_h(r.id)} <span class=\"sub\">({_h(where)})</span> {verdict}{reason}</h4><dl>{dl}</dl></article>")
 
 
-def _evidence(anchor: str, r: RowEntry | None) -> str:
-    """A finding's row: its link, and what it found (printed → computed, verdict)."""
+def _measure_html(m: MeasurementEntry) -> str:
+    verdict = f'<span class="badge {m.verdict}">{VERDICT_LABEL[m.verdict]}</span>'
+    items = [("measured", rich_html(m.quantity)), ("published", _h(m.measured) + f" — {_h(m.source)}"),
+             ("uncertainty", _h(m.uncertainty)), ("predicted", _h(m.predicted) + (
+                 f", 95 % interval {_h(m.interval)}" if m.interval != "—" else "")),
+             ("verdict", verdict), ("how", rich_html(m.note)),
+             ("defined in", f"<code>{_h(m.config)}</code>; computed by <code>{_h(m.function)}</code>")]
+    dl = "".join(f"<dt>{k}</dt><dd>{v}</dd>" for k, v in items)
+    return (f'<article class="measure v-{m.verdict}" id="{_h(m.anchor)}" data-verdict="{m.verdict}">'
+            f"<h4>{_h(m.id)} {verdict}</h4><dl>{dl}</dl></article>")
+
+
+def _evidence(anchor: str, r: RowEntry | MeasurementEntry | None) -> str:
+    """A finding's row: its link, and what it found (printed → computed, or measured → predicted; verdict)."""
     if r is None:
         return f'<a href="#{_h(anchor)}">{_h(anchor)}</a>'
+    if isinstance(r, MeasurementEntry):
+        return (f'<a href="#{_h(anchor)}">{_h(r.id)}</a> (measured {_h(r.measured)}, predicted {_h(r.predicted)}'
+                f'{" " + _h(r.interval) if r.interval != "—" else ""}, {VERDICT_LABEL[r.verdict]})')
     found = (f"printed {_h(r.printed_value)}, computed {_h(r.computed)}" if r.printed_value != "—" else
              _h(r.computed) if r.computed != "—" else "")
     return (f'<a href="#{_h(anchor)}">{_h(r.id)}</a> ({found + ", " if found else ""}'
@@ -433,8 +487,42 @@ def _figure_html(f: FigureEntry) -> str:
             f"<figcaption><strong>{_h(f.title)}.</strong> {_h(f.caption)}{vector}</figcaption></figure>")
 
 
-def _counts_html(counts: dict[str, int]) -> str:
-    return ", ".join(f'<span class="badge {v}">{counts.get(v, 0)} {VERDICT_LABEL[v]}</span>' for v in VERDICTS)
+def _counts_html(counts: dict[str, int], verdicts: tuple[str, ...] = VERDICTS) -> str:
+    return ", ".join(f'<span class="badge {v}">{counts.get(v, 0)} {VERDICT_LABEL[v]}</span>' for v in verdicts)
+
+
+_MEASURED_INTRO = ("Published measurements of billiard balls, each against what the paper's mechanics predict "
+                   "(§I's law of impact, §V–§VI's friction during the impact, §II's sliding on the cloth), with "
+                   "the measurement's uncertainty and the prediction's 95 % interval. These rows judge the 1883 "
+                   "theory, not a printed claim: their verdicts, consistent or inconsistent at 95 % (fitted where "
+                   "the measurement fixed a parameter), are counted apart from the printed claims above.")
+
+
+def _measured_part(ed: Edition) -> list[str]:
+    """The 1883 theory against today's measurements: after the paper's experiments, its own counts."""
+    if not ed.measured_sections:
+        return []
+    n = sum(ed.measurement_counts.values())
+    out = [f'<section id="measured" class="measured-part"><h2>The 1883 theory against today\'s measurements</h2>'
+           f"<p>{_h(_MEASURED_INTRO)}</p><p class=\"counts\">{n} measurements: "
+           f"{_counts_html(ed.measurement_counts, MEASUREMENT_VERDICTS)}.</p></section>\n"]
+    for s in ed.measured_sections:
+        out.append(f'<section class="measured-experiment" id="exp-{_h(s.experiment)}"><h2>{_h(s.title)}</h2>')
+        out.append(f'<p class="sub">{_h(s.source)} · <code>{_h(s.experiment)}</code> · '
+                   f"{_counts_html(s.measurement_counts, MEASUREMENT_VERDICTS)} · "
+                   f'files: <a href="{_h(s.folder)}/table.md">table.md</a>, '
+                   f'<a href="{_h(s.folder)}/summary.json">summary.json</a></p>')
+        if s.question:
+            out.append(f'<p class="question">{rich_html(s.question)}</p>')
+        out += [f"<p>{rich_html(x)}</p>" for x in s.notes]
+        out += [_figure_html(f) for f in s.figures]
+        out.append(f"<h3>Its {len(s.measurements)} measurements</h3>")
+        out += [_measure_html(m) for m in s.measurements]
+        if s.rows:
+            out.append(f"<h3>Its {len(s.rows)} printed claims</h3>")
+            out += [_row_html(r) for r in s.rows]
+        out.append("</section>\n")
+    return out
 
 
 # the words and symbols a reader meets in the rows (the paper's notation, §I)
@@ -460,6 +548,12 @@ def _glossary(ed: Edition) -> str:
     items = [f'<dt><span class="badge {v}">{VERDICT_LABEL[v]}</span></dt><dd>{_h(t)}</dd>' for v, t in verdicts]
     items += [f'<dt><span class="badge cat">{_h(k)}</span></dt><dd>{_h(v)}</dd>' for k, v in REASONS.items()
               if k in ed.reasons]
+    if ed.measured_sections:  # the verdicts of a measurement against the mechanics, their own words
+        items += [f'<dt><span class="badge {v}">{VERDICT_LABEL[v]}</span></dt><dd>{_h(t)}</dd>' for v, t in (
+            ("consistent", "a published measurement and the paper's prediction agree at 95 % (the measurement's "
+                           "uncertainty and the prediction's interval both counted)"),
+            ("inconsistent", "they do not: the paper's mechanics do not describe the measurement"),
+            ("fitted", "the measurement fixed a parameter of the prediction, so it tests nothing"))]
     items += [f"<dt>{_h(k)}</dt><dd>{_h(v)}</dd>" for k, v in SYMBOLS]
     return ('<section id="reading"><h2>How to read the rows</h2><p>Each row is one printed value or claim of the '
             "paper: the claim in words, the text as printed, what resal computes, their difference and the tolerance "
@@ -470,12 +564,18 @@ def _glossary(ed: Edition) -> str:
 def index_html(ed: Edition) -> str:
     """The reader's edition as one HTML page: styles and script inline, figures linked beside it."""
     total = sum(ed.counts.values())
-    anchors = {r.anchor: r for s in ed.sections for r in s.rows}
+    anchors: dict[str, RowEntry | MeasurementEntry] = {
+        r.anchor: r for s in (*ed.sections, *ed.measured_sections) for r in s.rows}
+    anchors |= {m.anchor: m for s in ed.measured_sections for m in s.measurements}
     out = ['<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n',
            '<meta name="viewport" content="width=device-width, initial-scale=1">\n',
            f"<title>{_h(ed.title)}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n",
            f"<header><h1>{_h(ed.title)}</h1><p class=\"sub\">{_h(ed.subtitle)}.</p>",
-           f'<p class="counts">{total} printed values and claims: {_counts_html(ed.counts)}. Tables: '
+           f'<p class="counts">{total} printed values and claims: {_counts_html(ed.counts)}'
+           + (f'; and, <a href="#measured">apart</a>, {sum(ed.measurement_counts.values())} of today\'s '
+              f"measurements against the paper's mechanics: "
+              f"{_counts_html(ed.measurement_counts, MEASUREMENT_VERDICTS)}" if ed.measured_sections else "")
+           + '. Tables: '
            '<a href="paper-table.csv">paper-table.csv</a> · <a href="paper-table.md">paper-table.md</a> · '
            '<a href="report.pdf">report.pdf</a> (this edition on paper).</p></header>\n<main>\n',
            '<section id="findings"><h2>What Résal got right and wrong</h2>',
@@ -492,7 +592,13 @@ def index_html(ed: Edition) -> str:
     out.append("</ol></section>\n")
     out.append('<nav aria-label="Experiments"><h2>The experiments, in the paper\'s order</h2><ul>')
     out += [f'<li><a href="#exp-{_h(s.experiment)}">{_h(s.title)}</a> ({_h(s.source)})</li>' for s in ed.sections]
-    out.append("</ul></nav>\n")
+    out.append("</ul>")
+    if ed.measured_sections:
+        out.append('<h3><a href="#measured">The 1883 theory against today\'s measurements</a></h3><ul>')
+        out += [f'<li><a href="#exp-{_h(s.experiment)}">{_h(s.title)}</a> ({_h(s.source)})</li>'
+                for s in ed.measured_sections]
+        out.append("</ul>")
+    out.append("</nav>\n")
     out.append(_glossary(ed))
     reasons = sorted({r.reason for s in ed.sections for r in s.rows if r.reason})
     sections = sorted({r.section.split(" ")[0] for s in ed.sections for r in s.rows}, key=_roman)
@@ -513,6 +619,7 @@ def index_html(ed: Edition) -> str:
         out.append(f'<h3 class="rows-heading">Its {len(s.rows)} rows</h3>')
         out += [_row_html(r) for r in s.rows]
         out.append('<p class="none" hidden>No row of this experiment matches the filters.</p></section>\n')
+    out += _measured_part(ed)
     out.append(f'</main>\n<footer><p class="sub">{_h(ed.provenance)}.</p></footer>\n')
     out.append(f"<script>{_JS}</script>\n</body>\n</html>\n")
     return "".join(out)

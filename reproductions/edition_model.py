@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-__all__ = ["Edition", "FigureEntry", "FindingEntry", "Rich", "RowEntry", "SectionEntry", "Span"]
+__all__ = ["Edition", "FigureEntry", "FindingEntry", "MeasurementEntry", "Rich", "RowEntry", "SectionEntry", "Span"]
 
 
 @dataclass(frozen=True)
@@ -57,6 +57,25 @@ class RowEntry:
 
 
 @dataclass(frozen=True)
+class MeasurementEntry:
+    """A published measurement against the paper's mechanics (never counted with the printed claims)."""
+
+    experiment: str
+    id: str
+    anchor: str  # "<experiment>--<row id>", unique in the edition
+    quantity: Rich
+    source: str  # the article
+    measured: str  # as published, with its unit
+    uncertainty: str
+    predicted: str
+    interval: str  # "[lo, hi]" at 95 %, or "—"
+    verdict: str  # a code of config.MEASUREMENT_VERDICTS
+    note: Rich
+    config: str  # "configs/<id>.yaml:<line>"
+    function: str
+
+
+@dataclass(frozen=True)
 class FigureEntry:
     png: str  # relative to the results folder
     pdf: str  # the vector version, relative to the results folder ("" if none)
@@ -76,6 +95,8 @@ class SectionEntry:
     counts: dict[str, int]  # verdict → number of rows
     folder: str  # the experiment's folder, relative to the results folder
     notes: tuple[Rich, ...] = field(default=())
+    measurements: tuple[MeasurementEntry, ...] = field(default=())
+    measurement_counts: dict[str, int] = field(default_factory=dict)  # verdict → measured rows
 
 
 @dataclass(frozen=True)
@@ -87,3 +108,6 @@ class Edition:
     findings: tuple[FindingEntry, ...]  # ranked: consequence, then paper order
     sections: tuple[SectionEntry, ...]  # the paper's order
     provenance: str  # version and commit, one line
+    # the 1883 theory against today's measurements: experiments of published measurements, apart from the paper's
+    measured_sections: tuple[SectionEntry, ...] = field(default=())
+    measurement_counts: dict[str, int] = field(default_factory=dict)  # verdict → measured rows, all experiments

@@ -36,7 +36,7 @@ from matplotlib.font_manager import FontProperties
 from matplotlib.text import Text
 from matplotlib.transforms import Affine2D
 
-from .edition_model import Edition, FigureEntry, FindingEntry, Rich, RowEntry, SectionEntry
+from .edition_model import Edition, FigureEntry, FindingEntry, MeasurementEntry, Rich, RowEntry, SectionEntry
 
 __all__ = [
     "BOTTOM", "DESCENT", "LEFT", "PAGE_HEIGHT", "PAGE_WIDTH", "TEXT_WIDTH", "TOP",
@@ -57,6 +57,9 @@ LEADING = 1.32  # baseline to baseline, in sizes
 INK, GREY = "#000000", "#4a4a4a"
 VERDICT_COLOURS = {"reproduced": "#1b5e20", "differs": "#a01818", "not-checkable": "#8a5200"}
 VERDICT_WORDS = {"reproduced": "reproduced", "differs": "differ", "not-checkable": "not checkable"}
+# a measurement against the mechanics: its own verdicts (config.MEASUREMENT_VERDICTS), counted apart
+MEASURE_COLOURS = {"consistent": "#1b5e20", "inconsistent": "#a01818", "fitted": "#0b3d6b",
+                   "not-checkable": "#8a5200"}
 
 _FACE_FILES = {
     "regular": "DejaVuSans.ttf", "bold": "DejaVuSans-Bold.ttf", "oblique": "DejaVuSans-Oblique.ttf",
@@ -436,22 +439,29 @@ class _Sizes:
 
 
 _S = _Sizes()
-_ROW_LABELS = ("claim", "printed", "computed", "difference", "tolerance", "why", "today", "note", "defined in")
+_ROW_LABELS = ("claim", "printed", "computed", "difference", "tolerance", "why", "today", "note", "defined in",
+               "measured", "published", "uncertainty", "predicted", "how")
+_MEASURED_INTRO = ("Published measurements of billiard balls, each against what the paper's mechanics predict, with "
+                   "the measurement's uncertainty and the prediction's 95 % interval. These rows judge the 1883 "
+                   "theory, not a printed claim: their verdicts (consistent or inconsistent at 95 %; fitted where the "
+                   "measurement fixed a parameter) are counted apart from the claims.")
 
 
 def _plain(rich: Rich) -> str:
     return "".join(span.text for span in rich)
 
 
-def _count_pieces(counts: Mapping[str, int], bold: bool = False) -> Pieces:
+def _count_pieces(counts: Mapping[str, int], bold: bool = False,
+                  colours: Mapping[str, str] = VERDICT_COLOURS) -> Pieces:
     base = _Fmt("bold" if bold else "regular")
     out: Pieces = []
-    order = [k for k in VERDICT_COLOURS if k in counts] + sorted(k for k in counts if k not in VERDICT_COLOURS)
+    order = [k for k in colours if k in counts] + sorted(k for k in counts if k not in colours)
     for k, verdict in enumerate(order):
         if k:
             out.append((" · ", base))
         out.append((f"{counts[verdict]} ", base))
-        out.append((VERDICT_WORDS.get(verdict, verdict), _Fmt(base.face, VERDICT_COLOURS.get(verdict, INK))))
+        words = VERDICT_WORDS.get(verdict, verdict) if colours is VERDICT_COLOURS else verdict
+        out.append((words, _Fmt(base.face, colours.get(verdict, INK))))
     return out
 
 
@@ -461,8 +471,10 @@ class _Flow:
     def __init__(self, ed: Edition, sizes: Mapping[str, tuple[int, int]], refs: Mapping[str, int], m: Metrics):
         self.ed, self.sizes, self.refs, self.ts = ed, sizes, refs, _Typesetter(m)
         self.blocks: list[_Block] = []
-        self.known = {"row:" + r.anchor for s in ed.sections for r in s.rows}
-        self.known |= {"fig:" + f.png for s in ed.sections for f in s.figures if f.png in sizes}
+        every = (*ed.sections, *ed.measured_sections)
+        self.known = {"row:" + r.anchor for s in every for r in s.rows}
+        self.known |= {"row:" + m.anchor for s in ed.measured_sections for m in s.measurements}
+        self.known |= {"fig:" + f.png for s in every for f in s.figures if f.png in sizes}
         labels = (*_ROW_LABELS, "question", "evidence", *ed.reasons)
         self.label_w = max(self.ts.piece_width(lab, _Fmt(), _S.body) for lab in labels) + 8.0
 
@@ -490,7 +502,23 @@ class _Flow:
             self.finding(rank, finding)
         for number, section in enumerate(self.ed.sections, 1):
             self.section(number, section)
+        if self.ed.measured_sections:  # the 1883 theory against today's measurements: a part of its own
+            self.measured_part()
+            for number, section in enumerate(self.ed.measured_sections, len(self.ed.sections) + 1):
+                self.section(number, section)
         return self.blocks
+
+    def measured_part(self) -> None:
+        ed = self.ed
+        h = self.para("The 1883 theory against today's measurements", _S.part, "part-heading", "", _Fmt("bold"))
+        for ln in h:
+            ln.keep_with_next = True
+        items: list[_Line | _Fig] = [*h, *self.para(_MEASURED_INTRO, _S.body, "body", "")]
+        n = sum(ed.measurement_counts.values())
+        items += self.ts.paragraph([(f"{n} measurements: ", _Fmt()),
+                                    *_count_pieces(ed.measurement_counts, colours=MEASURE_COLOURS)],
+                                   _Fmt(), 11.0, LEFT, TEXT_WIDTH, "counts", "")
+        self.blocks.append(_Block(items, new_page=True))
 
     def front(self) -> None:
         ed = self.ed
@@ -502,6 +530,12 @@ class _Flow:
         line = self.ts.paragraph(counts, _Fmt(), 11.0, LEFT, TEXT_WIDTH, "counts", "")
         line[0].space_before = 10
         items += line
+        if ed.measured_sections:  # counted apart: a measurement against the mechanics is not a printed claim
+            n = sum(ed.measurement_counts.values())
+            items += self.ts.paragraph([(f"Apart from them, {n} of today's measurements against the paper's "
+                                         "mechanics: ", _Fmt()),
+                                        *_count_pieces(ed.measurement_counts, colours=MEASURE_COLOURS)],
+                                       _Fmt(), 11.0, LEFT, TEXT_WIDTH, "counts", "")
         if ed.reasons:
             labels = {}
             for section in ed.sections:
@@ -527,7 +561,8 @@ class _Flow:
             self.blocks.append(_Block(h, space_before=16))
 
     def finding(self, rank: int, f: FindingEntry) -> None:
-        title = next((s.title for s in self.ed.sections if s.experiment == f.experiment), f.experiment)
+        title = next((s.title for s in (*self.ed.sections, *self.ed.measured_sections)
+                      if s.experiment == f.experiment), f.experiment)
         head = self.para(f"{rank}. {f.category_label} — consequence {f.consequence}/5 · {title}", _S.heading,
                          "block-heading", "", _Fmt("bold"))
         for ln in head:
@@ -546,15 +581,21 @@ class _Flow:
         self.blocks.append(_Block(items, keep_together=True, space_before=8))
 
     def _figure_entry(self, png: str) -> FigureEntry | None:
-        return next((fig for s in self.ed.sections for fig in s.figures if fig.png == png), None)
+        return next((fig for s in (*self.ed.sections, *self.ed.measured_sections) for fig in s.figures
+                     if fig.png == png), None)
 
     def section(self, number: int, s: SectionEntry) -> None:
         part = s.experiment
         head = self.para(f"{number}. {s.title}", _S.part, "part-heading", part, _Fmt("bold"))
         meta = self.para(" · ".join(x for x in (s.source, f"experiment {s.experiment}") if x), _S.body, "meta", part,
                          _Fmt("regular", GREY))
-        tally = self.ts.paragraph([(f"{sum(s.counts.values())} claims: ", _Fmt()), *_count_pieces(s.counts)],
-                                  _Fmt(), _S.body, LEFT, TEXT_WIDTH, "meta", part)
+        tally = (self.ts.paragraph([(f"{sum(s.counts.values())} claims: ", _Fmt()), *_count_pieces(s.counts)],
+                                   _Fmt(), _S.body, LEFT, TEXT_WIDTH, "meta", part)
+                 if s.rows or not s.measurements else [])
+        if s.measurements:
+            tally += self.ts.paragraph([(f"{len(s.measurements)} measurements: ", _Fmt()),
+                                        *_count_pieces(s.measurement_counts, colours=MEASURE_COLOURS)],
+                                       _Fmt(), _S.body, LEFT, TEXT_WIDTH, "meta", part)
         for ln in [*head, *meta, *tally]:
             ln.keep_with_next = True
         items: list[_Line | _Fig] = [*head, *meta, *tally]
@@ -569,6 +610,13 @@ class _Flow:
         self.blocks.append(_Block(items, new_page=True))
         for k, fig in enumerate(s.figures, 1):
             self.figure(number, k, fig, part)
+        if s.measurements:
+            h = self.para(f"Measurements ({len(s.measurements)})", _S.h2, "h2", part, _Fmt("bold"))
+            for ln in h:
+                ln.keep_with_next = True
+            self.blocks.append(_Block(h, space_before=10))
+            for m in s.measurements:
+                self.measurement(m, part)
         if s.rows:
             h = self.para(f"Claims ({len(s.rows)})", _S.h2, "h2", part, _Fmt("bold"))
             for ln in h:
@@ -600,6 +648,27 @@ class _Flow:
             items = [_Fig(fig.png, w, h, part, space_before=2), *cap]
             cap[0].space_before = 4
         self.blocks.append(_Block(items, keep_together=True, space_before=10))
+
+    def measurement(self, m: MeasurementEntry, part: str) -> None:
+        bold = _Fmt("bold")
+        head: Pieces = [(f"{m.id} · ", bold), (m.verdict, _Fmt("bold", MEASURE_COLOURS.get(m.verdict, INK)))]
+        lines = self.ts.paragraph(head, bold, _S.heading, LEFT, TEXT_WIDTH, "block-heading", part)
+        for ln in lines:
+            ln.keep_with_next = True
+            ln.anchor = m.anchor
+        items: list[_Line | _Fig] = list(lines)
+        items += self.labelled("measured", _pieces(m.quantity, _Fmt()), part)
+        items += self.labelled("published", [(m.measured, _Fmt()), (f" — {m.source}", _Fmt("regular", GREY))], part)
+        items += self.labelled("uncertainty", [(m.uncertainty or "—", _Fmt())], part)
+        pred = m.predicted + (f", 95 % interval {m.interval}" if m.interval != "—" else "")
+        items += self.labelled("predicted", [(pred, _Fmt())], part)
+        if _plain(m.note).strip():
+            items += self.labelled("how", _pieces(m.note, _Fmt()), part)
+        code = _Fmt("mono", GREY, "code")
+        items += self.labelled("defined in", [(m.config, code), (" · ", _Fmt("regular", GREY)), (m.function, code)],
+                               part)
+        height = sum(i.height for i in items)
+        self.blocks.append(_Block(items, keep_together=height <= BODY_HEIGHT / 3, space_before=7))
 
     def row(self, r: RowEntry, part: str) -> None:
         bold = _Fmt("bold")
@@ -922,7 +991,7 @@ def write_pdf(ed: Edition, out: Path, fh: BinaryIO) -> Layout:
     """Render ``ed`` to ``fh`` as an A4 PDF, its figures read from ``out / fig.png``; return the layout drawn.
     Deterministic: the same edition and figures always give the same bytes."""
     images: dict[str, np.ndarray] = {}
-    for section in ed.sections:
+    for section in (*ed.sections, *ed.measured_sections):
         for fig in section.figures:
             if fig.png not in images:
                 img = _read_image(Path(out) / fig.png)

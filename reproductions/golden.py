@@ -36,6 +36,10 @@ TOLERANCES: dict[str, tuple[float, float, str]] = {
     "direction": (0.0, 1e-9, "null directions are lines: compared up to sign and scale, 1 − |cos θ| ≤ 1e-9 "
                              "(their orientation can flip only at an exact tie of two components)"),
     "table": (1e-6, 1e-9, "estimator comparisons: means over seeded synthetic fits of full rank, as 'fit'"),
+    "measured": (1e-6, 1e-12, "a measurement against the paper's mechanics: the published value (read from its "
+                              "file: exact) and the prediction with its 95 % interval, from seeded Monte Carlo "
+                              "draws and profile-likelihood fits solved to ≤ 1e-9 relative; 1e-6 is far below "
+                              "their statistical uncertainty and far above rounding"),
 }
 FORMULA_REASON = ("a printed formula's discrepancy from a numerical reference: below the row's tolerance it is "
                   "integration noise, compared in absolute terms to that tolerance; above it (a formula that "
@@ -79,6 +83,10 @@ def flatten(s: dict[str, Any]) -> dict[str, tuple[Any, float, float, str]]:
             out[f"tables.{t['name']}.{j}"] = _entry(row, "table")
     for m in s["modern"]:
         out[f"modern.{m['symbol']}.resal"] = _entry(m["resal"], "closed-form")
+    for m in s.get("measurements", []):
+        for k in ("measured", "predicted", "interval"):
+            out[f"measurements.{m['id']}.{k}"] = _entry(m[k], "measured")
+        out[f"measurements.{m['id']}.verdict"] = _entry(m["verdict"], "code")
     out["figures"] = _entry(s["figures"], "code")
     return out
 
@@ -90,6 +98,7 @@ SUMMARY_FIELDS: dict[str, tuple[str, ...]] = {
     "identifiability": ("id", "rank", "null_directions", "parameters", "point", "family_of_solutions"),
     "tables": ("name", "rows"),
     "modern": ("symbol", "resal"),
+    "measurements": ("id", "measured", "predicted", "interval", "verdict"),
 }
 
 

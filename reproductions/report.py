@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any, BinaryIO
 
 from . import __version__, digest
-from .config import REASONS
+from .config import MEASUREMENT_VERDICTS, REASONS
 from .errors import InputError
 from .results import FigureSpec, Reproduction
 
@@ -121,7 +121,8 @@ def summary(rep: Reproduction, prov: dict[str, Any] | None = None) -> dict[str, 
                       "config_line": int(f.where.rsplit(":", 1)[1]) if ":" in f.where else None}
                      for f in e.findings],
         "provenance": prov if prov is not None else {},
-    }
+    } | ({"measurements": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(m).items()}
+                           for m in rep.measurements]} if rep.measurements else {})
 
 
 def _fmt(v: Any, digits: int = 6) -> str:
@@ -143,6 +144,23 @@ def row_cells(r: dict[str, Any]) -> list[str]:
     or absolute where the paper prints zero (``computed_text``, ``difference_text``)."""
     return [r["quantity"], r["source"], _fmt(r.get("line")), f"{r['printed_text']}", computed_text(r),
             difference_text(r), r["verdict"], r.get("reason") or "", r["note"]]
+
+
+MEASUREMENT_HEADERS = ("quantity", "source", "measured", "uncertainty", "predicted", "95 % interval", "verdict",
+                       "note")
+
+
+def interval_text(m: dict[str, Any]) -> str:
+    """A prediction's 95 % interval for people, "—" when there is none."""
+    iv = m.get("interval")
+    return "—" if not iv else f"[{_fmt(iv[0], 4)}, {_fmt(iv[1], 4)}]"
+
+
+def measurement_cells(m: dict[str, Any]) -> list[str]:
+    """A measured row's cells for people (MEASUREMENT_HEADERS): the measurement as published with its uncertainty,
+    the prediction of the paper's mechanics with its interval, the verdict at 95 %."""
+    return [m["quantity"], m["source"], m["measured_text"] or _fmt(m["measured"]), m["uncertainty"],
+            _fmt(m["predicted"], 4), interval_text(m), m["verdict"], m["note"]]
 
 
 def _fit_cells(f: dict[str, Any]) -> list[str]:
@@ -169,8 +187,14 @@ def table_md(s: dict[str, Any]) -> str:
            f" Experiment `{s['experiment']}`.\n"]
     if s["data_note"]:
         out.append(f"Data: {s['data_note']}\n")
-    out.append("## Printed values\n")
-    out.append(_md_table(HEADERS, (row_cells(r) for r in s["rows"])))
+    if s["rows"] or not s.get("measurements"):
+        out.append("## Printed values\n")
+        out.append(_md_table(HEADERS, (row_cells(r) for r in s["rows"])))
+    if s.get("measurements"):
+        out.append("\n## Today's measurements against the paper's mechanics\n")
+        out.append("Verdicts at 95 %, the measurement's uncertainty and the prediction's interval both counted "
+                   "(fitted: the measurement fixed a parameter and tests nothing).\n")
+        out.append(_md_table(MEASUREMENT_HEADERS, (measurement_cells(m) for m in s["measurements"])))
     if s["fits"]:
         out.append("\n## Fits\n")
         out.append(_md_table(("parameter", "value", "std. error", "95 % interval", "identifiable", "note"),
@@ -218,6 +242,16 @@ def table_csv(s: dict[str, Any]) -> str:
     w.writerow(cols)
     for r in s["rows"]:
         w.writerow([_csv_cell(r.get(c)) for c in cols])
+    if s.get("measurements"):  # a second table, after an empty line: the measured rows, their own columns
+        mcols = ["id", "quantity", "source", "unit", "measured", "measured_text", "uncertainty", "predicted",
+                 "interval_low", "interval_high", "verdict", "note"]
+        w.writerow([])
+        w.writerow(mcols)
+        for m in s["measurements"]:
+            iv = m.get("interval") or (None, None)
+            w.writerow([_csv_cell(v) for v in (m["id"], m["quantity"], m["source"], m["unit"], m["measured"],
+                                               m["measured_text"], m["uncertainty"], m["predicted"], iv[0], iv[1],
+                                               m["verdict"], m["note"])])
     return buf.getvalue()
 
 
@@ -235,6 +269,12 @@ def table_tex(s: dict[str, Any]) -> str:
              " & ".join(_tex(h) for h in HEADERS[:_TEX_COLS]) + r" \\", r"\midrule"]
     lines += [" & ".join(_tex(c) for c in row_cells(r)[:_TEX_COLS]) + r" \\" for r in s["rows"]]
     lines += [r"\bottomrule", r"\end{tabular}", ""]
+    if s.get("measurements"):
+        n = len(MEASUREMENT_HEADERS) - 1  # the note left out, as above
+        lines += [r"\begin{tabular}{" + "l" * n + "}", r"\toprule",
+                  " & ".join(_tex(h) for h in MEASUREMENT_HEADERS[:n]) + r" \\", r"\midrule"]
+        lines += [" & ".join(_tex(c) for c in measurement_cells(m)[:n]) + r" \\" for m in s["measurements"]]
+        lines += [r"\bottomrule", r"\end{tabular}", ""]
     return "\n".join(lines)
 
 
@@ -824,6 +864,15 @@ def verdict_counts(rows: Iterable[dict[str, Any]]) -> tuple[dict[str, int], dict
     return verdicts, {k: v for k, v in reasons.items() if v}
 
 
+def measurement_counts(summaries: Iterable[dict[str, Any]]) -> dict[str, int]:
+    """Measured rows per verdict (``config.MEASUREMENT_VERDICTS``): counted apart from the printed claims."""
+    counts = dict.fromkeys(MEASUREMENT_VERDICTS, 0)
+    for s in summaries:
+        for m in s.get("measurements", ()):
+            counts[m["verdict"]] = counts.get(m["verdict"], 0) + 1
+    return counts
+
+
 def _counts_text(verdicts: dict[str, int], reasons: dict[str, int]) -> str:
     text = ", ".join(f"{verdicts[v]} {v}" for v in VERDICTS)
     if reasons:
@@ -854,10 +903,25 @@ def index_md(summaries: list[tuple[str, dict[str, Any]]]) -> str:
             _md_table(("experiment", "section", "title", "reproduced", "differs", "not checkable"), (
                 [f"[{s['experiment']}]({name}/table.md)", s["source"]["section"], s["title"],
                  *(str(verdict_counts(s["rows"])[0][v]) for v in VERDICTS)] for name, s in summaries))]
+    measured = [(name, s) for name, s in summaries if s.get("measurements")]
+    if measured:
+        mc = measurement_counts(s for _, s in measured)
+        out += ["\n## The 1883 theory against today's measurements\n",
+                f"{sum(mc.values())} published measurements in {len(measured)} experiments, each against what the "
+                "paper's mechanics predict, at 95 % (counted apart from the printed claims above): "
+                + ", ".join(f"**{mc[v]} {v}**" for v in MEASUREMENT_VERDICTS) + ".\n",
+                _md_table(("experiment", "source", "title", *MEASUREMENT_VERDICTS), (
+                    [f"[{s['experiment']}]({name}/table.md)", s["source"]["section"], s["title"],
+                     *(str(measurement_counts([s])[v]) for v in MEASUREMENT_VERDICTS)] for name, s in measured))]
     for name, s in summaries:
         v, why = verdict_counts(s["rows"])
+        counts = _counts_text(v, why)
+        if s.get("measurements"):
+            mc = measurement_counts([s])
+            counts = (f"{counts}; measurements: " if s["rows"] else "measurements: ") + ", ".join(
+                f"{mc[x]} {x}" for x in MEASUREMENT_VERDICTS)
         out.append(f"\n### [{s['experiment']}]({name}/table.md): {_md_escape(s['title'])}\n")
-        out.append(f"{s['source']['section']}. {_counts_text(v, why)}. Tables: [md]({name}/table.md) · "
+        out.append(f"{s['source']['section']}. {counts}. Tables: [md]({name}/table.md) · "
                    f"[csv]({name}/table.csv) · [tex]({name}/table.tex) · [json]({name}/summary.json).\n")
         out += [f"![{name}/{f}]({name}/{f})\n" for f in s["figures"] if f.endswith(".png")]
     return "\n".join(out)

@@ -70,6 +70,41 @@ class Row:
 
 
 @dataclass(frozen=True)
+class Comparison:
+    """What a kind computes for one published measurement (``config.Measured``): the measured value as published
+    with its uncertainty, the prediction of the paper's mechanics with its 95 % interval, and the verdict, a code
+    of ``config.MEASUREMENT_VERDICTS`` decided by the kind (which holds both distributions)."""
+
+    measured: float | None
+    measured_text: str  # as published, with its unit
+    uncertainty: str  # its standard error and where it comes from ("published", "half the last digit, uniform")
+    predicted: float | None
+    interval: tuple[float, float] | None  # 95 % of the prediction
+    verdict: str
+    how: str  # how the prediction was made, and why the verdict
+
+
+@dataclass(frozen=True)
+class MeasurementRow:
+    """One published measurement against the paper's mechanics: a row of its own kind, never counted with the
+    printed claims' rows."""
+
+    id: str
+    quantity: str
+    source: str
+    unit: str
+    measured: float | None
+    measured_text: str
+    uncertainty: str
+    predicted: float | None
+    interval: tuple[float, float] | None
+    verdict: str
+    note: str
+    config_line: int | None = None
+    computes: str | None = None
+
+
+@dataclass(frozen=True)
 class FitRow:
     """One fitted quantity. ``id`` is a stable code (``<fit>.<parameter>``) that programs and goldens key on;
     ``parameter`` is its label for people."""
@@ -139,6 +174,7 @@ class Reproduction:
     data_note: str = ""
     identifiability: tuple[dict, ...] = ()
     tables: tuple[TableSpec, ...] = ()
+    measurements: tuple[MeasurementRow, ...] = ()  # published measurements against the mechanics (config.measured)
 
 
 def layer(kind: str, x: Sequence[float] | np.ndarray = (), y: Sequence[float] | np.ndarray = (),

@@ -3,6 +3,8 @@ same experiments (values, lines), and a malformed file the same message."""
 
 from __future__ import annotations
 
+import shutil
+
 import pytest
 
 from reproductions import api, config
@@ -27,3 +29,20 @@ def test_a_malformed_file_is_told_the_same_by_either_parser(tmp_path, monkeypatc
     with pytest.raises(api.InputError) as slow:
         api.load(str(f))
     assert str(fast.value) == str(slow.value) and "malformed YAML" in str(fast.value)
+
+
+def test_a_measured_entry_is_checked_like_a_printed_one(tmp_path):
+    """A measured row naming no comparison of its kind, or repeating an id, is refused at its line."""
+    text = (api.config_dir() / "modern-restitution.yaml").read_text(encoding="utf-8")
+    shutil.copytree(api.config_dir() / "data", tmp_path / "data")
+    old = "  - id: eps_cushion_low\n"
+    assert text.count(old) == 1
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(text.replace(old, old + "    computed: no_such_comparison\n"), encoding="utf-8")
+    with pytest.raises(api.InputError) as info:
+        api.load(str(bad))
+    line = text[: text.index(old)].count("\n") + 2
+    assert f"bad.yaml:{line}" in str(info.value) and "no comparison this kind computes" in str(info.value)
+    bad.write_text(text.replace("  - id: eps_cushion_all\n", "  - id: eps_cushion_low\n"), encoding="utf-8")
+    with pytest.raises(api.InputError, match="printed and measured ids must be unique; repeated: eps_cushion_low"):
+        api.load(str(bad))

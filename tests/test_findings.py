@@ -31,6 +31,7 @@ NEEDS = {
     "premise": "at least one of its rows differs with reason assumption",
     "beyond": "at least one of its rows differs (what the paper does not say shows as a claim it fails)",
     "holds": "every row it names is reproduced",
+    "measured": "it names only measured rows (today's measurements against the mechanics), not printed claims",
 }
 
 # numbers a finding may quote without a row carrying them, each with its reason; empty on purpose: keep it short
@@ -56,9 +57,16 @@ def _quoted(text: str) -> list[tuple[float, int, bool, str]]:
 
 def _carried(row: dict) -> set[float]:
     """Every number a row carries, unsigned: printed, computed, relative difference (also in %), and the numbers
-    written in its printed text and note."""
+    written in its printed text and note; of a measured row, the measurement, the prediction and its interval, and
+    the numbers written in its published text, uncertainty and note."""
     vals: set[float] = set()
-    for k in ("printed", "computed", "rel_diff"):
+    for v in row.get("interval") or ():
+        if isinstance(v, int | float) and math.isfinite(v):
+            vals.add(abs(float(v)))
+    for k in ("measured_text", "uncertainty"):
+        for tok in _ROW_NUMBER.findall(row.get(k) or ""):
+            vals.add(float(tok.replace(",", ".")))
+    for k in ("printed", "computed", "rel_diff", "measured", "predicted"):
         v = row.get(k)
         if isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v):
             vals.add(abs(float(v)))
@@ -95,7 +103,9 @@ def test_consequence_ranks_reach_both_ends():
     cons = [f.consequence for e in EXPERIMENTS for f in e.findings]
     assert sum(c >= 4 for c in cons) >= 3, f"fewer than three findings of consequence ≥ 4: {sorted(cons)}"
     assert min(cons) <= 2, f"no finding of small consequence: {sorted(cons)}"
-    assert 25 <= len(cons) <= 40, f"{len(cons)} findings in all (aim: 25-40)"
+    paper = [f for e in EXPERIMENTS for f in e.findings if f.category != "measured"]
+    assert 25 <= len(paper) <= 40, f"{len(paper)} findings on the paper's claims (aim: 25-40)"
+    assert len(cons) - len(paper) <= 12, f"{len(cons) - len(paper)} findings on today's measurements (aim: ≤ 12)"
     ids = [(e.id, f.id) for e in EXPERIMENTS for f in e.findings]
     assert len(set(ids)) == len(ids)
 
@@ -116,7 +126,7 @@ def summaries(reproduced_all):
 def _findings(summaries):
     for eid in IDS:
         s = summaries[eid]
-        rows = {r["id"]: r for r in s["rows"]}
+        rows = {r["id"]: r for r in (*s["rows"], *s.get("measurements", ()))}
         for f in s["findings"]:
             yield eid, s, rows, f
 
@@ -140,17 +150,21 @@ def test_rows_and_figures_exist(summaries):
 
 def _category_problem(category: str, rows: list[dict]) -> str | None:
     differs = [r for r in rows if r["verdict"] == "differs"]
+    measured = [r for r in rows if "measured_text" in r]
+    if measured and category != "measured":
+        return f"{category} cannot rest on measured rows ({', '.join(r['id'] for r in measured)}): use 'measured'"
     ok = {
         "erratum": any(r["reason"] == "erratum" for r in differs),
         "formula": any(r["reason"] in ("repair", "erratum") for r in differs),
         "premise": any(r["reason"] == "assumption" for r in differs),
         "beyond": bool(differs),
         "holds": all(r["verdict"] == "reproduced" for r in rows),
+        "measured": len(measured) == len(rows),
     }[category]
     if ok:
         return None
     return f"{category} needs {NEEDS[category]}; its rows: " + ", ".join(
-        f"{r['id']} {r['verdict']}" + (f"/{r['reason']}" if r["reason"] else "") for r in rows)
+        f"{r['id']} {r['verdict']}" + (f"/{r['reason']}" if r.get("reason") else "") for r in rows)
 
 
 def test_each_category_rests_on_its_rows(summaries):
@@ -187,6 +201,11 @@ def test_the_number_check_parses_and_rounds():
     assert _category_problem("holds", [{"id": "a", "verdict": "differs", "reason": "ocr"}])
     assert _category_problem("erratum", [{"id": "a", "verdict": "differs", "reason": "ocr"}])
     assert _category_problem("formula", [{"id": "a", "verdict": "differs", "reason": "repair"}]) is None
+    m = {"id": "m", "verdict": "inconsistent", "measured_text": "0.251 m/s", "uncertainty": "σ = 0.0003",
+         "measured": 0.251, "predicted": 0.397, "interval": [0.338, 0.459]}
+    assert _category_problem("measured", [m]) is None and _category_problem("beyond", [m])
+    assert _category_problem("measured", [m, {"id": "a", "verdict": "differs", "reason": "ocr"}])
+    assert _matches(0.338, 3, False, _carried(m)) and _matches(0.0003, 4, False, _carried(m))
 
 
 # -- the loader refuses a finding that names a missing row -----------------------------------------------------------
@@ -200,5 +219,5 @@ def test_a_finding_naming_a_missing_row_is_refused(tmp_path):
     cfg.write_text(bad, encoding="utf-8")
     out = tmp_path / "out"
     res = invoke("reproduce", cfg, "--out", out)
-    assert_bad(res, f"{cfg}:{line}", "no_such_row", "not printed ids of this file")
+    assert_bad(res, f"{cfg}:{line}", "no_such_row", "not printed or measured ids of this file")
     assert not out.exists() or not any(out.iterdir())

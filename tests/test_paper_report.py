@@ -49,19 +49,30 @@ def test_reproduce_all_prints_one_short_summary(written):
     rows (wrapped between reasons), and where the experiments' folders are."""
     out, summaries, stdout = written
     lines = [ln for ln in stdout.splitlines() if ln.strip()]
-    for s, ln in zip(summaries, lines, strict=False):
+    printed = [s for s in summaries if s["rows"]]  # the experiments of printed claims; the others come after
+    measured = [s for s in summaries if s.get("measurements")]
+    assert printed and measured and not [s for s in printed if s in measured]
+    for s, ln in zip(printed, lines, strict=False):
         counts, _ = report.verdict_counts(s["rows"])
         assert ln.split()[0] == s["experiment"] and len(ln) <= 80, ln
         assert [int(n) for n in re.findall(r"(\d+) (?:reproduced|differs|not-checkable)", ln)] == \
             [counts[v] for v in report.VERDICTS], ln
     total, why = report.verdict_counts([r for s in summaries for r in s["rows"]])
-    totals = lines[len(summaries)]
+    totals = lines[len(printed)]
     assert totals.startswith("total") and f"({sum(len(s['rows']) for s in summaries)} rows)" in totals
     assert [int(n) for n in re.findall(r"(\d+) (?:reproduced|differs|not-checkable)", totals)] == \
         [total[v] for v in report.VERDICTS]
-    reasons = " ".join(lines[len(summaries) + 1:-1])
+    head = next(i for i, ln in enumerate(lines) if ln.startswith("today's measurements"))
+    reasons = " ".join(lines[len(printed) + 1:head])
     assert reasons.startswith("differing rows by reason:")
     assert all(f"{k} {n}" in reasons for k, n in why.items())
+    # the measurements apart: their own heading, a line per experiment with its own verdicts, no printed verdict
+    assert f"({sum(len(s['measurements']) for s in measured)} rows, 95 %)" in lines[head]
+    for s, ln in zip(measured, lines[head + 1:], strict=False):
+        counts = report.measurement_counts([s])
+        assert ln.split()[0] == s["experiment"] and len(ln) <= 80, ln
+        assert {v: int(n) for n, v in re.findall(r"(\d+) (consistent|inconsistent|fitted|not-checkable)", ln)} == \
+            {v: n for v, n in counts.items() if n}, ln
     assert lines[-1] == f"folders: {out / '<experiment>'}/"
 
 
@@ -113,7 +124,12 @@ def test_the_index_gives_the_totals_then_each_experiment_with_its_figures_and_ta
         eid = s["experiment"]
         section = index.split(f"### [{eid}]({eid}/table.md)")[1].split("\n### ")[0]
         counts, _ = report.verdict_counts(s["rows"])
-        assert f"{counts['reproduced']} reproduced, {counts['differs']} differs" in section
+        if s["rows"]:
+            assert f"{counts['reproduced']} reproduced, {counts['differs']} differs" in section
+        if s.get("measurements"):  # its own verdicts, never as printed claims
+            m = report.measurement_counts([s])
+            assert "measurements: " + ", ".join(f"{m[v]} {v}" for v in m) in section
+            assert "reproduced" not in section.split("Tables:")[0] or s["rows"]
         for name in ("table.md", "table.csv", "table.tex", "summary.json"):
             assert f"({eid}/{name})" in section
         pngs = [f for f in s["figures"] if f.endswith(".png")]

@@ -106,7 +106,7 @@ def test_installed_resal_lists_and_reproduces_from_elsewhere(installed: dict) ->
 
     r = _run([resal, "list"], work, env)
     assert r.returncode == 0, r.stderr
-    assert len(CONFIG_IDS) == 9
+    assert len(CONFIG_IDS) == 12
     assert [i for i in CONFIG_IDS if i not in r.stdout] == [], r.stdout
 
     out = installed["work"].parent / "out"
@@ -122,6 +122,13 @@ def test_installed_resal_lists_and_reproduces_from_elsewhere(installed: dict) ->
     ours.pop("provenance")
     assert golden.compare(golden.golden_object(ours), got) == []
     assert got == ours  # same machine, same libraries: rows, verdicts and numbers identical
+
+    # a measurement experiment reads its data file (configs/data/, shipped beside the configs)
+    r = _run([resal, "reproduce", "modern-restitution", "--out", out], work, env, timeout=180)
+    assert r.returncode == 0, r.stdout + r.stderr
+    got = json.loads((out / "modern-restitution" / "summary.json").read_text(encoding="utf-8"))
+    data = list(got["provenance"]["digest"]["data"])
+    assert len(data) == 1 and Path(data[0]).is_relative_to(installed["purelib"]) and got["measurements"]
 
 
 def test_installed_resal_with_no_experiments_says_so(installed: dict, tmp_path: Path) -> None:

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from . import ballball, cloth, cue, cushion, impact_law, pendulum, rebound, ricochet
+from . import ballball, cloth, cue, cushion, headon, impact_law, oblique, pendulum, rebound, restitution, ricochet
 
 KINDS: dict[str, ModuleType] = {
     "cloth": cloth, "cue": cue, "cushion": cushion, "impact_law": impact_law, "pendulum": pendulum, "rebound": rebound,
-    "ricochet": ricochet, "spheres": ballball,
+    "oblique_markers": oblique, "ricochet": ricochet, "spheres": ballball, "head_on": headon,
+    "restitution": restitution,
 }

@@ -6,12 +6,14 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 
-from ..config import Experiment, Node, Printed
+from ..config import MEASUREMENT_VERDICTS, Experiment, Node, Printed
 from ..results import (
+    Comparison,
     Computed,
     FigureSpec,
     FitRow,
     Layer,
+    MeasurementRow,
     Reproduction,
     Row,
     TableSpec,
@@ -24,8 +26,9 @@ from ..results import (
 from ..series import read_series
 
 __all__ = [
-    "Computed", "FigureSpec", "FitRow", "Layer", "Reproduction", "Row", "TableSpec", "compare", "family_report",
-    "fit_rows", "identifiability_report", "layer", "modern_rows", "read_ball", "read_series", "rows_for",
+    "Comparison", "Computed", "FigureSpec", "FitRow", "Layer", "MeasurementRow", "Reproduction", "Row", "TableSpec",
+    "compare", "family_report", "fit_rows", "identifiability_report", "layer", "measurement_rows", "modern_rows",
+    "read_ball", "read_series", "rows_for",
 ]
 
 
@@ -63,6 +66,20 @@ def _compare(p: Printed, c: Computed) -> Row:
 def rows_for(exp: Experiment, computed: dict[str, Computed]) -> tuple[Row, ...]:
     """One row per printed value of the config, in the config's (the paper's) order."""
     return tuple(compare(p, computed[p.computed]) for p in exp.printed)
+
+
+def measurement_rows(exp: Experiment, comparisons: dict[str, Comparison]) -> tuple[MeasurementRow, ...]:
+    """One row per measured entry of the config, in the config's order, each with the kind's comparison."""
+    out = []
+    for m in exp.measured:
+        c = comparisons[m.computed]
+        if c.verdict not in MEASUREMENT_VERDICTS:
+            raise ValueError(f"{m.id}: verdict {c.verdict!r} is not one of {MEASUREMENT_VERDICTS}")
+        note = f"{c.how} {m.note}".strip()
+        out.append(MeasurementRow(m.id, m.quantity, m.source, m.unit, c.measured, c.measured_text, c.uncertainty,
+                                  c.predicted, c.interval, c.verdict, note,
+                                  int(m.where.rsplit(":", 1)[1]) if ":" in m.where else None, m.computed))
+    return tuple(out)
 
 
 def read_ball(node: Node, with_mass: bool = False) -> tuple[float, ...]:

@@ -64,6 +64,8 @@ class Code(str, Enum):
     NO_SCATTER = "no-scatter"  # the residuals are exactly zero: no noise can be estimated, no interval
     SIGMA_LARGE = "sigma-exceeds-scatter"  # a given σ far larger than the residuals: intervals too wide
     RESULT = "implausible-result"  # a fitted quantity known from elsewhere (g) comes out far from what it is
+    SECOND_MINIMUM = "second-minimum"  # another set of parameters, far from the estimate, fits almost as well
+    SERIES = "series-disagree"  # two series of one experiment do not share the parameters they should
 
 
 def warn(summary: dict[str, Any], code: Code, message: str) -> None:

@@ -17,6 +17,7 @@ from .checks import check_g, finish
 from .kinds import KINDS, Kind
 from .kinds.ballball import fit_ballball
 from .kinds.common import FitOptions, FitOutcome
+from .kinds.markers import fit_angle_markers
 from .kinds.pendulum import fit_pendulum
 from .kinds.rebound import fit_rebounds
 from .kinds.ricochet import fit_clicks, fit_ricochet
@@ -26,7 +27,7 @@ __all__ = ["FITTERS", "KINDS", "FitOptions", "FitOutcome", "Kind", "fit_csv"]
 
 FITTERS: dict[str, Callable[[str, Path, FitOptions], FitOutcome]] = {
     "rebound": fit_rebounds, "cushion": fit_rebounds, "drop": fit_rebounds, "pendulum": fit_pendulum,
-    "ricochet": fit_ricochet, "bounces": fit_clicks, "ball-ball": fit_ballball,
+    "ricochet": fit_ricochet, "bounces": fit_clicks, "ball-ball": fit_ballball, "markers": fit_angle_markers,
 }
 
 
@@ -41,6 +42,7 @@ HEADERS: dict[str, tuple[tuple[frozenset[str], frozenset[str]], ...]] = {
     "ricochet": ((frozenset({"x"}), frozenset({"t"})),),
     "bounces": ((frozenset({"t"}), frozenset()),),
     "ball-ball": ((frozenset({"v", "phi"}), frozenset({"cue_speed", "cue_dir", "obj_speed", "obj_dir"})),),
+    "markers": ((frozenset({"series", "psi", "angle"}), frozenset({"figure"})),),
 }
 _KNOWN = frozenset().union(*(r | o for sets in HEADERS.values() for r, o in sets))
 

@@ -53,4 +53,10 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
          "it rolls. v and phi are required; of the four outcome columns any subset will do (the two speeds alone "
          "fix f and e, as a published table of speeds and cut angles gives them), and an empty cell means not "
          "measured.", "ball-ball.csv", ("R", "k", "sigma_speed", "sigma_dir", "bootstrap", "max_seconds")),
+    Kind("markers", "ball–ball friction f and e from angle markers of oblique collisions against ψ, §VI n°13",
+         "series: alpha1 (the cue ball's turn at the impact, between its directions before and after) or throw "
+         "(the object ball's departure from the line of centres, positive forward); psi_deg: the impact angle "
+         "(0 = head-on); angle_deg: the angle; degrees, right after the impact. One series or both, at least 5 "
+         "markers of each present; an optional last column figure is ignored. The cue ball rolls onto a ball at "
+         "rest; the angles depend neither on the speed nor on the size of the balls.", "markers.csv", ("k",)),
 )}

@@ -1,0 +1,349 @@
+"""Kind ``restitution``: published regressions and means of billiard-ball impacts (Sudo & Shibata 2002) against §I
+n°5 (the law of ε, eq. (9)) and §VI n°13 (two balls on the cloth).
+
+§I eq. (9): a ball striking an immovable mass leaves at −V1/V0 = (1 − ε)/(1 + ε), so a measured restitution e gives
+ε = (1 − e)/(1 + e); for two equal balls with ε = ε′ (§VI n°13: « on peut admettre que les coefficients ε, ε′ sont
+égaux »), eq. (7) gives Newton's e = (1 − ε)/(1 + ε) exactly (``impact.newton_restitution``).
+
+Separation angle. For smooth equal balls (f = 0) with ε = ε′, the object ball leaves along the line of centres with
+v cos ψ (1 + e)/2 and the cue ball keeps v sin ψ across it and v cos ψ (1 − e)/2 along it, so the angle between the
+two directions is θ = 90° − atan[(1 − e)/(2 tan ψ)] (``theta_smooth``; checked against ``two_spheres(f = 0)``).
+Over random shots the impact parameter b = 2R sin ψ is uniform, so u = sin ψ is uniform on [0, 1):
+⟨θ⟩_b = ∫₀¹ θ(arcsin u) du, by Gauss–Legendre. With friction, θ comes from §VI's ``two_spheres(on_cloth=True)``, the
+cue ball rolling naturally into the impact.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from ..config import Experiment, Node
+from ..mechanics import impact, spheres
+from .base import Comparison, FigureSpec, Reproduction, layer, measurement_rows, modern_rows
+from .headon import Published, judge, quantiles, read_published
+
+QUANTITIES = ("eps_cushion_low", "eps_cushion_all", "eps_constant", "eps_ball_ball", "contact_time",
+              "separation_mean", "transverse_momentum")
+MODERN = ("e_c", "e_c(v)", "e_bb", "mu_bb")
+REQUIRED = ("ball_mass", "ball_diameter", "cushion_restitution_below_1.8_mps", "cushion_restitution_all_speeds",
+            "cushion_contact_time", "ball_ball_restitution_head_on", "separation_angle_mean",
+            "transverse_momentum_deficit")
+MAX_NODES = 2000
+MAX_DRAWS = 20_000
+
+
+@dataclass(frozen=True)
+class Params:
+    data: Path
+    published: tuple[Published, ...]
+    k: float
+    g: float
+    split_speed: float  # the low-speed regression's upper speed (m/s)
+    paper_cushion_ratio: float  # Coriolis's −V1/V0 = 0,55 of the cushion (§I n°5), a measurement the paper quotes
+    paper_marble_height_ratio: float  # the ball on marble rises to 2/3 of its height (§I n°5)
+    f_range: tuple[float, float]  # ball-ball friction for the separation angle: from smooth to today's highest
+    f_typical: float
+    nodes: int  # Gauss–Legendre nodes of the average over shots
+    draws: int
+    cushion_law: tuple[float, float, float]  # today's e(v) = a + b v + c v² of the cushion (Han 2005), for the figure
+    cushion_law_vmax: float
+
+    def get(self, name: str) -> Published:
+        return next(p for p in self.published if p.name == name)
+
+
+def parse(node: Node, base: Path) -> Params:
+    data = base / node.string("data")
+    published = read_published(data, REQUIRED)
+    k = node.number("k", "k of the moment of inertia M R²/k", lo=0.0, lo_open=True)
+    g = node.number("g", "the acceleration of gravity (m/s²)", lo=0.0, lo_open=True)
+    split = node.number("split_speed", "a speed in m/s", lo=0.0, lo_open=True)
+    ratio = node.number("paper_cushion_ratio", "a velocity ratio in (0, 1)", lo=0.0, hi=1.0, lo_open=True,
+                        hi_open=True)
+    marble = node.number("paper_marble_height_ratio", "a height ratio in (0, 1)", lo=0.0, hi=1.0, lo_open=True,
+                         hi_open=True)
+    fr = node.number_list("f_range", "two friction coefficients [low, high]")
+    if len(fr) != 2 or not 0.0 <= fr[0] <= fr[1] <= 1.0:
+        raise node.fail(f"'{node.path}.f_range' must be [low, high] with 0 ≤ low ≤ high ≤ 1, got {list(fr)}",
+                        node._mapping()["f_range"])
+    f_typ = node.number("f_typical", "a friction coefficient within f_range", lo=fr[0], hi=fr[1])
+    nodes = node.integer("nodes", "Gauss–Legendre nodes", lo=20, hi=MAX_NODES)
+    draws = node.integer("draws", "Monte Carlo draws", lo=100, hi=MAX_DRAWS)
+    law = node.number_list("cushion_law", "coefficients a, b, c of e(v) = a + b v + c v²")
+    if len(law) != 3:
+        raise node.fail(f"'{node.path}.cushion_law' must have exactly three coefficients a, b, c")
+    vmax = node.number("cushion_law_vmax", "a speed in m/s", lo=0.0, lo_open=True)
+    node.done()
+    return Params(data, tuple(published.values()), k, g, split, ratio, marble, (fr[0], fr[1]), f_typ, nodes, draws,
+                  (law[0], law[1], law[2]), vmax)
+
+
+def eps_of(e: object) -> np.ndarray:
+    """ε = (1 − e)/(1 + e): the inverse of §I eq. (9)."""
+    return impact.eps_from_newton(np.asarray(e, dtype=float))
+
+
+def theta_smooth(psi: object, e: object) -> np.ndarray:
+    """Separation angle (degrees) of smooth equal balls with ε = ε′ (module docstring), ψ in radians."""
+    psi = np.asarray(psi, dtype=float)
+    return 90.0 - np.degrees(np.arctan((1 - np.asarray(e, dtype=float)) / (2 * np.tan(psi))))
+
+
+def theta_spheres(psi: object, e: object, f: object, R: float, M: float, k: float) -> np.ndarray:
+    """Separation angle (degrees) right after the §VI impact on the cloth (``two_spheres``), the cue ball rolling
+    naturally at unit speed into a ball at rest; ψ (radians) is the angle of the line of centres to the motion."""
+    psi, e, f = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (psi, e, f)))
+    vx, vy = np.cos(psi), -np.sin(psi)  # in the paper's frame: Ox along the line of centres
+    z = np.zeros_like(vx)
+    v0 = np.stack([vx, vy, z], -1)
+    w0 = np.stack([-vy / R, vx / R, z], -1)  # natural roll: no slip on the cloth
+    eps = eps_of(e)
+    imp = spheres.two_spheres(M, M, R, R, k, k, v0, w0, np.zeros_like(v0), np.zeros_like(v0), f=f, eps=eps, epsp=eps,
+                              on_cloth=True)
+    a = np.arctan2(imp.v1[..., 1], imp.v1[..., 0])
+    b = np.arctan2(imp.v1p[..., 1], imp.v1p[..., 0])
+    return np.degrees(b - a)
+
+
+@lru_cache(maxsize=4)
+def _gauss(nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss–Legendre nodes and weights on [−1, 1]: Newton's method on the Legendre polynomial from the classical
+    guess cos(π(i − 1/4)/(n + 1/2)), by its three-term recurrence (no eigenvalue problem, which a threaded BLAS
+    makes costly); every node converges quadratically, to 1e-15 in a few steps."""
+    n = nodes
+    x = np.cos(np.pi * (np.arange(1, n + 1) - 0.25) / (n + 0.5))
+    for _ in range(100):
+        p0, p1 = np.ones_like(x), x
+        for j in range(2, n + 1):
+            p0, p1 = p1, ((2 * j - 1) * x * p1 - (j - 1) * p0) / j
+        dp = n * (x * p1 - p0) / (x * x - 1)
+        step = p1 / dp
+        x = x - step
+        if float(np.max(np.abs(step))) < 1e-15:
+            break
+    p0, p1 = np.ones_like(x), x
+    for j in range(2, n + 1):
+        p0, p1 = p1, ((2 * j - 1) * x * p1 - (j - 1) * p0) / j
+    dp = n * (x * p1 - p0) / (x * x - 1)
+    w = 2 / ((1 - x * x) * dp * dp)
+    return x[::-1].copy(), w[::-1].copy()
+
+
+def mean_over_b(values_of_psi: object, nodes: int) -> float:
+    """⟨θ⟩ with the impact parameter uniform (u = sin ψ uniform on [0, 1)): Gauss–Legendre in u; ``values_of_psi``
+    maps ψ (radians) to θ."""
+    x, w = _gauss(nodes)
+    u = 0.5 * (x + 1)
+    return float(0.5 * np.sum(w * values_of_psi(np.arcsin(u))))  # type: ignore[operator]
+
+
+def _b_means(p: Params, e: float, fs: np.ndarray) -> np.ndarray:
+    """⟨θ⟩_b for each f, one batched §VI call over the nodes × frictions."""
+    R, M = p.get("ball_diameter").value / 2, p.get("ball_mass").value
+    x, w = _gauss(p.nodes)
+    psi = np.arcsin(0.5 * (x + 1))
+    th = theta_spheres(psi[None, :], e, fs[:, None], R, M, p.k)
+    return 0.5 * th @ w
+
+
+def _bisect_e(p: Params, target: float) -> float:
+    """The e whose smooth-ball ⟨θ⟩_b is ``target`` (θ rises with e), by bisection to 1e-6."""
+    lo, hi = 0.0, 1.0
+    while hi - lo > 1e-7:
+        mid = 0.5 * (lo + hi)
+        if mean_over_b(lambda s, e=mid: theta_smooth(s, e), p.nodes) < target:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def _psi_from(p: Params, e: float, fs: np.ndarray, target: float) -> np.ndarray:
+    """For each f, the smallest ψ (degrees) from which θ(ψ) of §VI reaches ``target`` (θ rises with ψ), by one
+    vectorised bisection to 1e-6 rad."""
+    R, M = p.get("ball_diameter").value / 2, p.get("ball_mass").value
+    lo, hi = np.full(fs.shape, math.radians(0.5)), np.full(fs.shape, math.radians(89.5))
+    for _ in range(60):
+        if float(np.max(hi - lo)) < 1e-6:
+            break
+        mid = 0.5 * (lo + hi)
+        up = theta_spheres(mid, e, fs, R, M, p.k) < target
+        lo, hi = np.where(up, mid, lo), np.where(up, hi, mid)
+    return np.degrees(0.5 * (lo + hi))
+
+
+@dataclass(frozen=True)
+class Separation:
+    e: float
+    fs: np.ndarray
+    means: np.ndarray  # ⟨θ⟩_b of §VI at each f of fs
+    smooth: float  # ⟨θ⟩_b of smooth balls (closed form)
+    e_needed: float
+    psi_smooth: float
+    psi_typical: float
+
+
+def separation(p: Params) -> Separation:
+    e = p.get("ball_ball_restitution_head_on").value
+    target = p.get("separation_angle_mean").value
+    fs = np.array([p.f_range[0], p.f_typical, p.f_range[1]])
+    means = _b_means(p, e, fs)
+    smooth = mean_over_b(lambda s: theta_smooth(s, e), p.nodes)
+    psi = _psi_from(p, e, np.array([0.0, p.f_typical]), target)
+    return Separation(e, fs, means, smooth, _bisect_e(p, target), float(psi[0]), float(psi[1]))
+
+
+def comparisons(p: Params, sep: Separation, seed: int) -> dict[str, Comparison]:
+    rng = np.random.default_rng(seed)
+    n = p.draws
+    low, allsp = p.get("cushion_restitution_below_1.8_mps"), p.get("cushion_restitution_all_speeds")
+    bb = p.get("ball_ball_restitution_head_on")
+    e_low, e_all = low.draw(rng, n), allsp.draw(rng, n)
+    # Coriolis's « différait peu de 0,55 »: its last digit, ± 0.005, uniform
+    ratio = p.paper_cushion_ratio + 0.01 * rng.uniform(-0.5, 0.5, n)
+    eps_paper = eps_of(ratio)
+    pq = quantiles(eps_paper)
+    out: dict[str, Comparison] = {}
+    for key, pub, what in (("eps_cushion_low", low, f"below {p.split_speed:g} m/s"),
+                           ("eps_cushion_all", allsp, "over all speeds")):
+        draws = eps_of(e_low if pub is low else e_all)
+        verdict, diff = judge(eps_paper, draws)
+        eps_m = float(eps_of(pub.value))
+        half = float(eps_of(pub.value - pub.digit / 2) - eps_m)
+        out[key] = Comparison(
+            eps_m, f"e = {pub.text} → ε = {eps_m:.4f} (eq. (9))", f"± {half:.4f} (e to ± half its last digit)",
+            pq[1], (pq[0], pq[2]), verdict,
+            f"the paper's ε of the cushion, from Coriolis's −V1/V0 = {p.paper_cushion_ratio:g} (§I n°5, printed "
+            f"ε = 0,29); today's regression {what}; paper − today's {_iv(diff)} (95 %)")
+    d = e_low - e_all
+    verdict, diff = judge(np.zeros(n), d)
+    W = 0.5
+    e_above = (allsp.value - (1 - W) * low.value) / W
+    out["eps_constant"] = Comparison(
+        low.value - allsp.value, f"e {low.text} (below {p.split_speed:g} m/s) − {allsp.text} (all) = "
+                                 f"{low.value - allsp.value:.3f}",
+        f"± {float(np.std(d)):.4f} (both to ± half their last digit)", 0.0, (0.0, 0.0), verdict,
+        f"a constant ε (§I n°5: Coriolis's ratio « différait peu de 0,55 » up to 7 m/s) gives one ratio −V1/V0 at "
+        f"every speed, so both regressions would be equal; 0 − measured {_iv(diff)} (95 %). A regression through the "
+        f"origin is the v²-weighted mean of e, so above {p.split_speed:g} m/s e ≤ {allsp.text} and ε ≥ "
+        f"{float(eps_of(allsp.value)):.3f}, {float(eps_of(allsp.value) / eps_of(low.value)):.2f} × the low-speed ε; "
+        f"with half of Σv² above, e = {e_above:.3f} there (ε = {float(eps_of(e_above)):.3f})")
+    eps_bb = float(eps_of(bb.value))
+    eps_marble = float(impact.eps_from_height_ratio(p.paper_marble_height_ratio))
+    bb_draws = eps_of(bb.draw(rng, n))
+    inside = bool(np.all(bb_draws <= eps_marble))
+    out["eps_ball_ball"] = Comparison(
+        eps_bb, f"e = {bb.text} → ε = ε′ = {eps_bb:.4f}",
+        f"± {float(np.std(bb_draws)):.1g} (e to ± half its last digit)",
+        None, (0.0, eps_marble), "consistent" if inside else "inconsistent",
+        f"§VI n°13: « leur valeur, qui est très petite, n'a pas été déterminée »; very small taken as below the "
+        f"smallest ε the paper puts a number on, the ball on marble (√(2/3) → ε = {eps_marble:.3f}); eq. (7) with "
+        f"ε = ε′ gives back e = {float(impact.newton_restitution(1.0, 1.0, eps_bb, eps_bb)):.4f}")
+    tau = p.get("cushion_contact_time")
+    v = p.split_speed
+    out["contact_time"] = Comparison(
+        tau.value, f"{tau.text} {tau.unit}", tau.how_uncertain, None, None, "not-checkable",
+        f"§I treats the impact as instantaneous: it predicts no duration. Its premise holds for the forces: the "
+        f"weight's impulse over the contact, g τ, is {p.g * tau.value / (v * (1 + low.value)):.3f} of the cushion's "
+        f"normal impulse at {v:g} m/s; the centre travels v τ = {1000 * v * tau.value:.1f} mm = "
+        f"{v * tau.value / (p.get('ball_diameter').value / 2):.2f} R meanwhile")
+    th = p.get("separation_angle_mean")
+    i_typ = 1
+    lo_th, hi_th = float(min(sep.means.min(), sep.smooth)), float(max(sep.means.max(), sep.smooth))
+    consistent = lo_th - th.digit / 2 <= th.value <= hi_th + th.digit / 2
+    out["separation_mean"] = Comparison(
+        th.value, f"{th.text}°", f"± {th.digit / 2:g} (half its last digit; no spread published)",
+        float(sep.means[i_typ]), (lo_th, hi_th), "consistent" if consistent else "inconsistent",
+        f"conditional on shots with a uniform impact parameter (the article does not give its shots' cut angles): "
+        f"⟨θ⟩ of §VI with e = {sep.e:g}, the cue ball rolling, f = {sep.fs[1]:g} (interval: f from {sep.fs[0]:g} to "
+        f"{sep.fs[2]:g}; smooth balls {sep.smooth:.2f}°; friction only closes the angle). The published mean needs "
+        f"e = {sep.e_needed:.3f} with smooth balls, or shots only at cut angles ψ ≥ {sep.psi_smooth:.1f}° (smooth) or "
+        f"≥ {sep.psi_typical:.1f}° (f = {sep.fs[1]:g})")
+    tm = p.get("transverse_momentum_deficit")
+    out["transverse_momentum"] = Comparison(
+        tm.value, f"{tm.text} (trend only)", "none published", 0.0, None, "not-checkable",
+        "the pair's momentum across the line of centres is kept exactly by §V and §VI (their impulses are internal); "
+        "the published fraction is a trend whose instant and body are not defined")
+    return out
+
+
+def _iv(iv: tuple[float, float]) -> str:
+    return f"[{iv[0]:+.4f}, {iv[1]:+.4f}]"
+
+
+def run(exp: Experiment) -> Reproduction:
+    p: Params = exp.params
+    sep = separation(p)
+    comps = comparisons(p, sep, exp.seed)
+    low, allsp = p.get("cushion_restitution_below_1.8_mps"), p.get("cushion_restitution_all_speeds")
+    modern = modern_rows(exp.modern, {
+        "e_c": (float(eps_of(low.value)), "ε of today's cushion below 1.8 m/s"),
+        "e_c(v)": (float(eps_of(allsp.value)), "ε of today's cushion over all speeds"),
+        "e_bb": (float(eps_of(p.get("ball_ball_restitution_head_on").value)), "ε = ε′ of the balls"),
+        "mu_bb": (p.f_typical, "f of the separation angle's prediction"),
+    })
+    figures = (_figure_separation(p, sep), _figure_cushion(p))
+    return Reproduction(exp, (), (), figures, modern, measurements=measurement_rows(exp, comps))
+
+
+def _figure_separation(p: Params, sep: Separation) -> FigureSpec:
+    R, M = p.get("ball_diameter").value / 2, p.get("ball_mass").value
+    deg = np.linspace(1.0, 89.0, 177)
+    psi = np.radians(deg)
+    th = p.get("separation_angle_mean").value
+    fric = theta_spheres(psi, sep.e, sep.fs[1], R, M, p.k)
+    layers = (
+        layer("line", [0.0, 90.0], [90.0, 90.0], label="e = 1, smooth: 90°", color="0.5", style="--"),
+        layer("line", deg, theta_smooth(psi, sep.e), label=f"smooth balls, e = {sep.e:g}", color="C0"),
+        layer("line", deg, fric, label=f"§VI, cue ball rolling, e = {sep.e:g}, f = {sep.fs[1]:g}", color="C1"),
+        layer("line", [0.0, 90.0], [th, th], label=f"published mean {th:g}°", color="C3"),
+        layer("line", [0.0, 90.0], [sep.smooth, sep.smooth], label=f"its mean over evenly spread shots: "
+                                                                    f"{sep.smooth:.1f}°", color="C0", style=":"),
+        layer("line", [0.0, 90.0], [float(sep.means[1])] * 2, label=f"its mean over evenly spread shots: "
+                                                                   f"{float(sep.means[1]):.1f}°", color="C1",
+              style=":"),
+    )
+    return FigureSpec(
+        "separation-angle", "Angle between the two balls' directions after an oblique impact", "cut angle ψ (degrees)",
+        "separation angle θ (degrees)", layers, (0.0, 90.0), (40.0, 92.0),
+        caption=f"Sudo & Shibata 2002: e = {sep.e:g}, mean separation {th:g}°",
+        reading=(
+            "The angle between the cue ball's and the object ball's directions right after the impact, against the "
+            "cut angle: 90° for smooth elastic balls, less with e < 1 (blue) and less again with friction (orange); "
+            "both fall to 0 for a full hit (ψ → 0). Dotted: their means over shots with a uniform impact parameter "
+            f"({sep.smooth:.1f}° and {float(sep.means[1]):.1f}°), both below the published mean {th:g}° (red), "
+            f"which the curves reach only for ψ ≥ {sep.psi_smooth:.0f}° and ψ ≥ {sep.psi_typical:.0f}°."),
+        legend="lower right")
+
+
+def _figure_cushion(p: Params) -> FigureSpec:
+    low, allsp = p.get("cushion_restitution_below_1.8_mps"), p.get("cushion_restitution_all_speeds")
+    e_low, e_all = float(eps_of(low.value)), float(eps_of(allsp.value))
+    eps_paper = float(eps_of(p.paper_cushion_ratio))
+    a, b, c = p.cushion_law
+    v = np.linspace(0.2, p.cushion_law_vmax, 60)
+    han = eps_of(np.clip(a + b * v + c * v * v, 0.0, 1.0))
+    top = 0.45
+    layers = (
+        layer("line", [0.0, p.split_speed], [e_low, e_low], label=f"Sudo & Shibata, below {p.split_speed:g} m/s: "
+                                                                  f"ε = {e_low:.3f}", color="C0"),
+        layer("band", [p.split_speed, 7.0], [e_all, e_all], [top, top],
+              label=f"what their all-speed value needs above {p.split_speed:g} m/s: ε ≥ {e_all:.3f}", color="C0"),
+        layer("line", [0.0, 7.0], [eps_paper, eps_paper], label=f"Résal/Coriolis: ε = {eps_paper:.2f} up to 7 m/s",
+              color="C3", style="--"),
+        layer("line", v, han, label="Han 2005 law e(v), as ε (today's, for context)", color="0.4", style=":"),
+    )
+    return FigureSpec(
+        "cushion-eps", "Résal's ε of the cushion against the impact speed", "impact speed (m/s)", "ε = (1 − e)/(1 + e)",
+        layers, (0.0, 7.0), (0.0, top),
+        reading=(
+            "Résal's ε of a ball on the cushion, from measured rebound ratios through eq. (9), against the impact "
+            f"speed. The paper takes one value, {eps_paper:.2f}, at every speed (dashed); today's cushion gives "
+            f"{e_low:.3f} at low speed and, for the all-speed regression to come out at {allsp.text}, at least "
+            f"{e_all:.3f} above {p.split_speed:g} m/s (shaded): ε is not a constant, and today's is lower."),
+        legend="below")
