@@ -443,13 +443,20 @@ def _finding(node: Node, printed_ids: set[str]) -> Finding:
     return Finding(fid, category, consequence, text, rows, figure, node.where())
 
 
-def _measured(node: Node, quantities: tuple[str, ...]) -> Measured:
-    mid = node.string("id")
-    computed = node.string("computed", default=mid)
+def _id_computed(node: Node, quantities: tuple[str, ...], what: str) -> tuple[str, str]:
+    """An entry's id and the kind's ``what`` it names (``computed:``, by default its id), refused at its line when
+    the kind computes no such thing."""
+    eid = node.string("id")
+    computed = node.string("computed", default=eid)
     if computed not in quantities:
         at = node._mapping().get("computed", node.node)
-        raise node.fail(f"'{node.path}.computed' names no comparison this kind computes: '{computed}' "
+        raise node.fail(f"'{node.path}.computed' names no {what} this kind computes: '{computed}' "
                         f"(expected one of {', '.join(quantities)})", at)
+    return eid, computed
+
+
+def _measured(node: Node, quantities: tuple[str, ...]) -> Measured:
+    mid, computed = _id_computed(node, quantities, "comparison")
     out = Measured(mid, computed, node.string("quantity"), node.string("source"), node.string("unit", default=""),
                    node.where(), node.string("note", default=""))
     node.done()
@@ -469,12 +476,7 @@ def _tolerance(value: float, exact: bool, raw: str) -> tuple[float, str]:
 
 
 def _printed(node: Node, quantities: tuple[str, ...]) -> Printed:
-    pid = node.string("id")
-    computed = node.string("computed", default=pid)
-    if computed not in quantities:
-        at = node._mapping().get("computed", node.node)
-        raise node.fail(f"'{node.path}.computed' names no quantity this kind computes: '{computed}' "
-                        f"(expected one of {', '.join(quantities)})", at)
+    pid, computed = _id_computed(node, quantities, "quantity")
     quantity = node.string("quantity")
     source = node.string("source")
     text = node.string("text")

@@ -498,6 +498,18 @@ _MEASURED_INTRO = ("Published measurements of billiard balls, each against what 
                    "the measurement fixed a parameter), are counted apart from the printed claims above.")
 
 
+def _section_head(s: SectionEntry, cls: str, counts: str) -> list[str]:
+    """An experiment's section up to its rows: title, source and counts, question, notes, figures."""
+    out = [f'<section class="{cls}" id="exp-{_h(s.experiment)}"><h2>{_h(s.title)}</h2>',
+           f'<p class="sub">{_h(s.source)} · <code>{_h(s.experiment)}</code> · {counts} · '
+           f'files: <a href="{_h(s.folder)}/table.md">table.md</a>, '
+           f'<a href="{_h(s.folder)}/summary.json">summary.json</a></p>']
+    if s.question:
+        out.append(f'<p class="question">{rich_html(s.question)}</p>')
+    out += [f"<p>{rich_html(n)}</p>" for n in s.notes]
+    return out + [_figure_html(f) for f in s.figures]
+
+
 def _measured_part(ed: Edition) -> list[str]:
     """The 1883 theory against today's measurements: after the paper's experiments, its own counts."""
     if not ed.measured_sections:
@@ -507,15 +519,7 @@ def _measured_part(ed: Edition) -> list[str]:
            f"<p>{_h(_MEASURED_INTRO)}</p><p class=\"counts\">{n} measurements: "
            f"{_counts_html(ed.measurement_counts, MEASUREMENT_VERDICTS)}.</p></section>\n"]
     for s in ed.measured_sections:
-        out.append(f'<section class="measured-experiment" id="exp-{_h(s.experiment)}"><h2>{_h(s.title)}</h2>')
-        out.append(f'<p class="sub">{_h(s.source)} · <code>{_h(s.experiment)}</code> · '
-                   f"{_counts_html(s.measurement_counts, MEASUREMENT_VERDICTS)} · "
-                   f'files: <a href="{_h(s.folder)}/table.md">table.md</a>, '
-                   f'<a href="{_h(s.folder)}/summary.json">summary.json</a></p>')
-        if s.question:
-            out.append(f'<p class="question">{rich_html(s.question)}</p>')
-        out += [f"<p>{rich_html(x)}</p>" for x in s.notes]
-        out += [_figure_html(f) for f in s.figures]
+        out += _section_head(s, "measured-experiment", _counts_html(s.measurement_counts, MEASUREMENT_VERDICTS))
         out.append(f"<h3>Its {len(s.measurements)} measurements</h3>")
         out += [_measure_html(m) for m in s.measurements]
         if s.rows:
@@ -608,14 +612,7 @@ def index_html(ed: Edition) -> str:
                + _options("section", "section of the paper", [(x, x) for x in sections])
                + '<span id="f-shown" aria-live="polite"></span></div>\n')
     for s in ed.sections:
-        out.append(f'<section class="experiment" id="exp-{_h(s.experiment)}"><h2>{_h(s.title)}</h2>')
-        out.append(f'<p class="sub">{_h(s.source)} · <code>{_h(s.experiment)}</code> · {_counts_html(s.counts)} · '
-                   f'files: <a href="{_h(s.folder)}/table.md">table.md</a>, '
-                   f'<a href="{_h(s.folder)}/summary.json">summary.json</a></p>')
-        if s.question:
-            out.append(f'<p class="question">{rich_html(s.question)}</p>')
-        out += [f"<p>{rich_html(n)}</p>" for n in s.notes]
-        out += [_figure_html(f) for f in s.figures]
+        out += _section_head(s, "experiment", _counts_html(s.counts))
         out.append(f'<h3 class="rows-heading">Its {len(s.rows)} rows</h3>')
         out += [_row_html(r) for r in s.rows]
         out.append('<p class="none" hidden>No row of this experiment matches the filters.</p></section>\n')

@@ -611,19 +611,20 @@ class _Flow:
         for k, fig in enumerate(s.figures, 1):
             self.figure(number, k, fig, part)
         if s.measurements:
-            h = self.para(f"Measurements ({len(s.measurements)})", _S.h2, "h2", part, _Fmt("bold"))
-            for ln in h:
-                ln.keep_with_next = True
-            self.blocks.append(_Block(h, space_before=10))
+            self.h2(f"Measurements ({len(s.measurements)})", part)
             for m in s.measurements:
                 self.measurement(m, part)
         if s.rows:
-            h = self.para(f"Claims ({len(s.rows)})", _S.h2, "h2", part, _Fmt("bold"))
-            for ln in h:
-                ln.keep_with_next = True
-            self.blocks.append(_Block(h, space_before=10))
+            self.h2(f"Claims ({len(s.rows)})", part)
             for row in s.rows:
                 self.row(row, part)
+
+    def h2(self, title: str, part: str) -> None:
+        """A heading within an experiment, kept with what follows it."""
+        h = self.para(title, _S.h2, "h2", part, _Fmt("bold"))
+        for ln in h:
+            ln.keep_with_next = True
+        self.blocks.append(_Block(h, space_before=10))
 
     def figure(self, number: int, k: int, fig: FigureEntry, part: str) -> None:
         size = self.sizes.get(fig.png)
