@@ -213,3 +213,17 @@ def test_a_second_valley_is_said_not_hidden(tmp_path):
     res = invoke("fit", "markers", str(examples), "--out", str(tmp_path / "fit"))
     assert res.exit_code == 0, res.output
     assert "[second-minimum]" in res.stderr
+
+
+def test_angles_in_radians_are_said(tmp_path):
+    """ψ written in radians in the psi_deg column (all below 1.6) is read as degrees, and the fit says so loudly
+    (code implausible-input) instead of fitting head-on shots in silence."""
+    rows = [ln for ln in (EXAMPLES / "markers.csv").read_text().splitlines() if ln and not ln.startswith("#")]
+    head, body = rows[0], rows[1:]
+    out = [head] + [f"{s},{float(p) * np.pi / 180:.5f},{a}" for s, p, a in (r.split(",")[:3] for r in body)]
+    f = tmp_path / "radians.csv"
+    f.write_text("\n".join(out) + "\n")
+    res = invoke("fit", "markers", str(f), "--out", str(tmp_path / "fit"))
+    assert "[implausible-input]" in res.stderr and "radians" in res.stderr, res.output
+    ok = invoke("fit", "markers", str(EXAMPLES / "markers.csv"), "--out", str(tmp_path / "ok"))
+    assert "[implausible-input]" not in ok.stderr

@@ -25,6 +25,7 @@ from ..estimators import markers as mk
 from .common import FitOptions, FitOutcome, base_summary, estimate_row, today
 
 SERIES = ("alpha1", "throw")
+RADIANS = 1.6  # psi_deg all below π/2 rad ≈ 1.57: the angles are radians, almost surely
 LABELS = {"alpha1": "α1, the cue ball's turn", "throw": "the object ball's throw"}
 CORIOLIS_F = ("Coriolis's ball–ball friction « ne paraît pas devoir atteindre 0,03 » (§VI n°13)", 0.03, 610)
 METHOD = "profile likelihood (§VI n°13 on the cloth), σ of each series estimated with a 0.5° floor, Δ(−2lnL) = 3.84"
@@ -59,6 +60,10 @@ def fit_angle_markers(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         ("series", "alpha1 or throw", "1"), ("psi_deg", "impact angle ψ", "deg"), ("angle_deg", "the angle", "deg"))]
     summary = base_summary(kind, path, n, columns, opts)
     summary["bootstrap"] = None
+    psi_max = max(float(p.psi.max()) for p in parts.values())
+    if psi_max < RADIANS:  # every impact angle under 1.6°: a file of radians read as degrees, most likely
+        warn(summary, Code.UNIT, f"every psi_deg is below {RADIANS:g}° (the largest {psi_max:g}): impact angles in "
+                                 "radians written in a column of degrees? The fit reads them as degrees")
     fits = {s: mk.fit_markers([p], model) for s, p in parts.items()}
     for s, f in fits.items():
         summary["fits"] += _rows(s, f"{LABELS[s]} alone", f)
