@@ -94,7 +94,9 @@ def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path,
 
     reps: list[Reproduction | None] = [None] * len(exps)
     with process_pool(jobs) as pool:
-        running = {pool.submit(run, e): i for i, e in enumerate(exps)}
+        # the longest first (each kind's declared COST): the last to start should be short, not roze-ricochets
+        order = sorted(range(len(exps)), key=lambda i: -float(getattr(KINDS[exps[i].kind], "COST", 1.0)))
+        running = {pool.submit(run, exps[i]): i for i in order}
         drawing = set()
         n_fig = done_fig = 0
         while running or drawing:

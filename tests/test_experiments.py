@@ -127,3 +127,11 @@ def test_user_csv_with_two_mass_ratios_separates_eps_and_epsp(tmp_path):
     assert fits["ε (cue)"].identifiable and fits["ε (cue)"].value == pytest.approx(0.1, abs=1e-6)
     assert fits["ε′ (ball)"].identifiable and fits["ε′ (ball)"].value == pytest.approx(0.25, abs=1e-6)
     assert {r.id: r for r in rep.rows}["n_equations"].computed == 2.0
+
+
+def test_every_kind_declares_its_cost_for_the_pool():
+    """The pool starts the longest experiments first (api.run_and_draw): each kind says about how long it runs."""
+    from reproductions.experiments import KINDS
+
+    assert all(isinstance(m.COST, float) and m.COST > 0 for m in KINDS.values()), {
+        k: getattr(m, "COST", None) for k, m in KINDS.items()}

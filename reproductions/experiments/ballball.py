@@ -33,6 +33,7 @@ QUANTITIES = ("free_direction", "eq5", "eq8_as_printed", "resal_sliding_error", 
               "first_order_stun", "resal_cloth_energy_stun", "resal_cloth_energy_beyond", "eq2_original",
               "eq2p_original", "integrals_original", "eq3_substituted_original", "impact_integrals_original",
               "eq_a_original", "eq8_original")
+COST = 1.6  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("mu_bb", "mu_bb(v)", "e_bb")
 
 
