@@ -241,21 +241,14 @@ def _names(experiments: list[str] | None, all_: bool) -> list[str]:
     return names
 
 
-def _is_id(name: str) -> bool:
-    """Whether ``name`` names an experiment by id (configs/<id>.yaml), as ``api.load`` reads it."""
-    from reproductions import locate
-
-    return not locate.names_a_file(name) and name in locate.experiment_ids()
-
-
 def _reusable(names: list[str], out: Path) -> dict[str, dict[str, Any]]:
     """The summaries of the experiments named by id whose folder in ``out`` was computed from the same config,
     data files and code (``digest.reusable``): nothing of the physics is imported to know it."""
     from reproductions import digest, locate
 
-    found = {}
+    found, ids = {}, set(locate.experiment_ids())
     for n in names:
-        if _is_id(n):
+        if n in ids and not locate.names_a_file(n):  # named by id (configs/<id>.yaml), as ``api.load`` reads it
             s = digest.reusable(out / n, locate.config_dir() / f"{n}.yaml")
             if s is not None and s.get("experiment") == n:
                 found[n] = s

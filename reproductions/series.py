@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import math
 from collections.abc import Collection, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -12,12 +13,15 @@ import numpy as np
 from .config import decode_text, read_input, shorten
 from .errors import InputError
 
-__all__ = ["MAX_IMPRINTS", "MIN_IMPRINTS", "UNITS", "Series", "check_imprints", "check_pendulum_trials",
-           "header_names", "read_imprints", "read_rebounds", "read_series", "si_unit", "unit_label"]
+__all__ = ["MAX_IMPRINTS", "MAX_MARKERS", "MIN_IMPRINTS", "MIN_MARKERS", "UNITS", "Markers", "Series",
+           "check_imprints", "check_pendulum_trials", "header_names", "read_imprints", "read_markers", "read_rebounds",
+           "read_series", "si_unit", "unit_label"]
 
 MAX_CSV_BYTES = 4 << 20  # 4 MiB: a series of 10⁵ rows; a larger file is refused before it is parsed
 MIN_IMPRINTS = 5  # a ricochet series: fewer imprints cannot tell ν from the launch
 MAX_IMPRINTS = 100  # Rozé counted up to 12; after 100 impacts at ν ≤ 0.8 a flight is 1e-10 of the first
+MIN_MARKERS = 5  # angle markers per series: a fit of two parameters and a σ, and a slope, need a few more than three
+MAX_MARKERS = 10_000
 MAX_SPAN = 20.0  # m: the longest ricochet series taken as metres (a ball thrown onto a slab, not a field)
 MAX_SPEED = 50.0  # m/s: the fastest launch the ricochet fits admit (fitting.PHYSICAL_BOUNDS)
 MOMENTUM_SIGMAS = 5.0  # a pendulum trial is refused when it breaks momentum by more than 5 σ of the imbalance
@@ -283,3 +287,61 @@ def read_imprints(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
     x, t = d["x"], d.get("t")
     check_imprints(x, str(path), t, d.lines)
     return x - x[0], None if t is None else t - t[0]
+
+
+@dataclass(frozen=True)
+class Markers:
+    """Angle markers against ψ (degrees), per series, with the file and line of each."""
+
+    series: dict[str, tuple[np.ndarray, np.ndarray]]
+    where: str
+
+
+def read_markers(path: Path, allowed: tuple[str, ...], required: tuple[str, ...] | None = None,
+                 min_markers: int = MIN_MARKERS) -> Markers:
+    """Markers from a CSV with a header ``series,psi_deg,angle_deg`` (an optional last column ``figure`` is
+    ignored): series one of ``allowed``, ψ in (0°, 90°), the angle a finite number of degrees in (−90°, 90°]; at
+    least ``min_markers`` of each series of ``required`` (default: all allowed) and of each series present. Every
+    bad row is refused with its file:line."""
+    where = str(path)
+    text = read_text(path)
+    numbered = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.startswith("#")]
+    if not numbered:
+        raise InputError(where, "empty file (expected a header series,psi_deg,angle_deg and one marker per line)")
+    head_line, head = numbered[0]
+    header = [h.strip() for h in next(csv.reader([head]))]
+    if header[:3] != ["series", "psi_deg", "angle_deg"] or len(header) > 4 or header[3:] not in ([], ["figure"]):
+        raise InputError(f"{where}:{head_line}", f"the header must be series,psi_deg,angle_deg (optionally ,figure), "
+                                                 f"got {','.join(header)[:80]}")
+    out: dict[str, list[tuple[float, float]]] = {}
+    for line, ln in numbered[1:]:
+        cells = [c.strip() for c in next(csv.reader([ln]))]
+        if len(cells) != len(header):
+            raise InputError(f"{where}:{line}", f"expected {len(header)} values, got {len(cells)}")
+        name = cells[0]
+        if name not in allowed:
+            raise InputError(f"{where}:{line}", f"series must be one of {', '.join(allowed)}, got '{name[:40]}'")
+        try:
+            psi, ang = float(cells[1]), float(cells[2])
+        except ValueError:
+            raise InputError(f"{where}:{line}", "psi_deg and angle_deg must be numbers (degrees)") from None
+        if not (math.isfinite(psi) and 0.0 < psi < 90.0):
+            raise InputError(f"{where}:{line}", f"psi_deg must be an impact angle in (0, 90) degrees (0 = head-on), "
+                                                f"got {cells[1][:40]}")
+        if not (math.isfinite(ang) and -90.0 < ang <= 90.0):
+            raise InputError(f"{where}:{line}", f"angle_deg must be an angle in (−90, 90] degrees, got {cells[2][:40]}")
+        out.setdefault(name, []).append((psi, ang))
+        if sum(map(len, out.values())) > MAX_MARKERS:
+            raise InputError(f"{where}:{line}", f"more than {MAX_MARKERS} markers")
+    if not out:
+        raise InputError(f"{where}:{head_line}", "a header and no marker: expected one marker per line after it")
+    need = [s for s in allowed if s in (allowed if required is None else required) or s in out]
+    short = [f"{s} ({len(out.get(s, []))})" for s in need if len(out.get(s, [])) < min_markers]
+    if short:
+        raise InputError(where, f"at least {min_markers} markers of each series are needed to fit (f, e), σ and a "
+                                f"trend; too few: {', '.join(short)}")
+    series = {}
+    for s, v in out.items():
+        a = np.array(sorted(v))
+        series[s] = (a[:, 0], a[:, 1])
+    return Markers(series, where)

@@ -17,6 +17,7 @@ from reproductions.config import load_experiment
 from reproductions.errors import InputError
 from reproductions.experiments import KINDS
 from reproductions.fit.estimators import markers as mk
+from reproductions.series import read_markers
 
 CONFIG = Path(__file__).resolve().parent.parent / "configs" / "modern-oblique.yaml"
 PSI = np.array([5.0, 10.0, 25.0, 40.0, 55.0, 70.0, 85.0])
@@ -204,7 +205,7 @@ def test_a_second_valley_is_said_not_hidden(tmp_path):
     outside the χ² cut. The fit must name that valley in a warning (code second-minimum), not report the far one
     alone as if the interval excluded the truth with 95 % confidence."""
     examples = Path(__file__).resolve().parent.parent / "examples" / "markers.csv"
-    m = mk.read_markers(examples, ("alpha1", "throw"), required=())
+    m = read_markers(examples, ("alpha1", "throw"), required=())
     alone = mk.fit_markers([mk.Part(*m.series["alpha1"], "alpha1")])
     assert not alone.ci_f[0] <= 0.06 <= alone.ci_f[1]  # the far valley wins by 4.2 …
     assert alone.rival is not None and abs(alone.rival[0] - 0.06) <= 0.03 and alone.rival[2] < mk.RIVAL  # … said

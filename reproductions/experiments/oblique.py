@@ -22,6 +22,7 @@ from scipy import stats
 from ..config import Experiment, Node
 from ..fit.estimators import markers as mk
 from ..results import modern_table
+from ..series import Markers, read_markers
 from .base import (
     Comparison,
     FigureSpec,
@@ -72,7 +73,7 @@ def parse(node: Node, base: Path) -> Params:
         raise node.fail("'params.modern_friction_law' must have exactly three coefficients a, b, c",
                         node._mapping()["modern_friction_law"])
     node.done()
-    mk.read_markers(data, ("alpha1", "delta2"))  # a bad or missing file stops the run before any work
+    read_markers(data, ("alpha1", "delta2"))  # a bad or missing file stops the run before any work
     return Params(data, mk.Model(speed, R, M, k), (rng[0], rng[1]), floor, split, (law[0], law[1], law[2]))
 
 
@@ -115,7 +116,7 @@ def _fit_row(fid: str, label: str, value: float, ci: tuple[float, float], identi
 
 def run(exp: Experiment) -> Reproduction:
     p: Params = exp.params
-    m = mk.read_markers(p.data, ("alpha1", "delta2"))
+    m = read_markers(p.data, ("alpha1", "delta2"))
     model, floor = p.model, p.floor
     (pa, oa), (pd, od) = m.series["alpha1"], m.series["delta2"]
     alpha, throw = mk.Part(pa, oa, "alpha1"), mk.Part(pd, od, "throw")
@@ -247,7 +248,7 @@ def run(exp: Experiment) -> Reproduction:
                         measurements=measurement_rows(exp, comparisons))
 
 
-def _figures(m: mk.Markers, model: mk.Model, fj: mk.MarkerFit, fa: mk.MarkerFit, readings: dict[str, mk.MarkerFit],
+def _figures(m: Markers, model: mk.Model, fj: mk.MarkerFit, fa: mk.MarkerFit, readings: dict[str, mk.MarkerFit],
              slopes: tuple[mk.SlopeTest, mk.SlopeTest], alpha: mk.Part, throw: mk.Part) -> tuple[FigureSpec, ...]:
     grid = np.linspace(5.0, 75.0, 57)
     fit_label = f"§VI, joint fit f = {fj.f:.3f}, e = {fj.e:.3f}"

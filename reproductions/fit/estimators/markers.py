@@ -33,22 +33,17 @@ times finer, on which the minimum and both profiles are read. Everything is a fi
 
 from __future__ import annotations
 
-import csv
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 from scipy import interpolate, stats
 
-from ...errors import InputError
 from ...mechanics import spheres
-from ...series import read_text
 from .shots import predict_shots
 
-__all__ = ["ANGLES", "CUT", "FLOOR", "MarkerFit", "Markers", "Model", "Part", "SlopeTest", "agreement", "angles",
-           "fit_f_fixed_e", "fit_markers", "m2lnl", "prediction_band", "read_markers", "slip_speeds", "slope_test"]
+__all__ = ["ANGLES", "CUT", "FLOOR", "MarkerFit", "Model", "Part", "SlopeTest", "agreement", "angles",
+           "fit_f_fixed_e", "fit_markers", "m2lnl", "prediction_band", "slip_speeds", "slope_test"]
 
 ANGLES = ("alpha1", "throw", "sep_dev", "cue_dev", "throw_rolled")
 CUT = float(stats.chi2.ppf(0.95, 1))  # 3.841: one parameter profiled (Wilks)
@@ -61,8 +56,6 @@ MAX_ZOOM = 5  # refinements of the local grid
 MIN_SPAN = 10  # steps of the local grid the 95 % region must span (unless it spans the bounds)
 UPSAMPLE = 8
 _F_COARSE = np.linspace(0.0, 0.6, 25)
-MIN_MARKERS = 5  # per series: a fit of two parameters and a σ, and a slope, need a few more than three
-MAX_MARKERS = 10_000
 _E_COARSE = np.array([0.05, 0.2, 0.35, 0.5, 0.62, 0.72, 0.8, 0.86, 0.9, 0.93, 0.95, 0.965, 0.975, 0.985, 0.993, 1.0])
 
 
@@ -316,61 +309,3 @@ def prediction_band(psi_deg: np.ndarray, fit: MarkerFit, key: str,
     pairs = np.vstack([fit.region, [[fit.f, fit.e]]])
     a = angles(np.asarray(psi_deg)[None, :], pairs[:, :1], pairs[:, 1:], model)[key]
     return a[-1], a.min(axis=0), a.max(axis=0)
-
-
-@dataclass(frozen=True)
-class Markers:
-    """Angle markers against ψ (degrees), per series, with the file and line of each."""
-
-    series: dict[str, tuple[np.ndarray, np.ndarray]]
-    where: str
-
-
-def read_markers(path: Path, allowed: tuple[str, ...], required: tuple[str, ...] | None = None,
-                 min_markers: int = MIN_MARKERS) -> Markers:
-    """Markers from a CSV with a header ``series,psi_deg,angle_deg`` (an optional last column ``figure`` is
-    ignored): series one of ``allowed``, ψ in (0°, 90°), the angle a finite number of degrees in (−90°, 90°]; at
-    least ``min_markers`` of each series of ``required`` (default: all allowed) and of each series present. Every
-    bad row is refused with its file:line."""
-    where = str(path)
-    text = read_text(path)
-    numbered = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.startswith("#")]
-    if not numbered:
-        raise InputError(where, "empty file (expected a header series,psi_deg,angle_deg and one marker per line)")
-    head_line, head = numbered[0]
-    header = [h.strip() for h in next(csv.reader([head]))]
-    if header[:3] != ["series", "psi_deg", "angle_deg"] or len(header) > 4 or header[3:] not in ([], ["figure"]):
-        raise InputError(f"{where}:{head_line}", f"the header must be series,psi_deg,angle_deg (optionally ,figure), "
-                                                 f"got {','.join(header)[:80]}")
-    out: dict[str, list[tuple[float, float]]] = {}
-    for line, ln in numbered[1:]:
-        cells = [c.strip() for c in next(csv.reader([ln]))]
-        if len(cells) != len(header):
-            raise InputError(f"{where}:{line}", f"expected {len(header)} values, got {len(cells)}")
-        name = cells[0]
-        if name not in allowed:
-            raise InputError(f"{where}:{line}", f"series must be one of {', '.join(allowed)}, got '{name[:40]}'")
-        try:
-            psi, ang = float(cells[1]), float(cells[2])
-        except ValueError:
-            raise InputError(f"{where}:{line}", "psi_deg and angle_deg must be numbers (degrees)") from None
-        if not (math.isfinite(psi) and 0.0 < psi < 90.0):
-            raise InputError(f"{where}:{line}", f"psi_deg must be an impact angle in (0, 90) degrees (0 = head-on), "
-                                                f"got {cells[1][:40]}")
-        if not (math.isfinite(ang) and -90.0 < ang <= 90.0):
-            raise InputError(f"{where}:{line}", f"angle_deg must be an angle in (−90, 90] degrees, got {cells[2][:40]}")
-        out.setdefault(name, []).append((psi, ang))
-        if sum(map(len, out.values())) > MAX_MARKERS:
-            raise InputError(f"{where}:{line}", f"more than {MAX_MARKERS} markers")
-    if not out:
-        raise InputError(f"{where}:{head_line}", "a header and no marker: expected one marker per line after it")
-    need = [s for s in allowed if s in (allowed if required is None else required) or s in out]
-    short = [f"{s} ({len(out.get(s, []))})" for s in need if len(out.get(s, [])) < min_markers]
-    if short:
-        raise InputError(where, f"at least {min_markers} markers of each series are needed to fit (f, e), σ and a "
-                                f"trend; too few: {', '.join(short)}")
-    series = {}
-    for s, v in out.items():
-        a = np.array(sorted(v))
-        series[s] = (a[:, 0], a[:, 1])
-    return Markers(series, where)

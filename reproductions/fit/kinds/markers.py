@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from ...results import FigureSpec, layer
+from ...series import read_markers
 from ..checks import Code, warn
 from ..estimators import markers as mk
 from .common import FitOptions, FitOutcome, base_summary, estimate_row, today
@@ -52,7 +53,7 @@ def _rows(key: str, what: str, fit: mk.MarkerFit) -> list[dict[str, Any]]:
 
 def fit_angle_markers(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     """The fit of ``resal fit markers`` (module docstring)."""
-    m = mk.read_markers(path, SERIES, required=())
+    m = read_markers(path, SERIES, required=())
     model = mk.Model(R=opts.R, k=opts.k)
     parts = {s: mk.Part(*m.series[s], s) for s in SERIES if s in m.series}
     n = sum(p.psi.size for p in parts.values())
