@@ -840,6 +840,12 @@ def _print_grouped(title: str, headers: tuple[str, ...], groups: list[tuple[str,
                     out_console.print(Text(pad + ln), highlight=False, soft_wrap=True)
 
 
+def _micro(us: float) -> str:
+    """Microseconds in at most 6 characters: 3 significant digits below 1000 (52.9), whole numbers with a thin
+    group above (5 070), never an exponent (a referee's milliseconds widened the column past 80)."""
+    return f"{us:.3g}" if us < 1000 else f"{us:,.0f}".replace(",", "\u2009")
+
+
 @app.command()
 def bench(
     models: Annotated[list[str] | None, typer.Argument(help="models (default: all; see simulate --list)")] = None,
@@ -874,7 +880,7 @@ def bench(
             e = r["where_exact"]["max_error"]
             n1 = r.get("n1_seconds")
             rows.append(([r["path"], r["kind"], f"{r['scenes_per_second']:.3g}",
-                          "—" if n1 is None or not math.isfinite(n1) else f"{n1 * 1e6:.3g}",
+                          "—" if n1 is None or not math.isfinite(n1) else _micro(n1 * 1e6),
                           "—" if e is None else f"{e:.2e}",
                           ("wrong" if wrong else "right") if r["path"] == "auto" else ""], ""))
         groups.append((mod["model"], rows))
@@ -896,6 +902,9 @@ def stress(
                                         parser=_count("--scenes", 1, 50_000_000))] = 1_000_000,
     ode_scenes: Annotated[int, typer.Option(help="scenes per ODE path (each one integrated)",
                                             parser=_count("--ode-scenes", 1, 100_000))] = 150,
+    referee_scenes: Annotated[int, typer.Option(help="scenes per referee (each integrated; every exact path is "
+                                                     "judged against them)",
+                                                parser=_count("--referee-scenes", 1, 100_000))] = 1_000,
     seed: Annotated[int, typer.Option(help="seed of the random scenes", parser=_count("--seed", 0, 2**63 - 1))] = 12,
     out: Annotated[Path, typer.Option("--out", help="folder for stress.json and stress.md",
                                       parser=_out_folder)] = Path("results/stress"),
@@ -915,7 +924,8 @@ def stress(
         def step(model: str, k: int) -> None:
             bar.update(task, advance=k, description=f"stress: {model}")
 
-        rep = stress_mod.run(names, scenes=scenes, ode_scenes=ode_scenes, seed=seed, progress=step)
+        rep = stress_mod.run(names, scenes=scenes, ode_scenes=ode_scenes, seed=seed, progress=step,
+                             referee_scenes=referee_scenes)
     try:
         written = stress_mod.write(rep, out)
     except OSError as err:

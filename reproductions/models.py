@@ -65,7 +65,8 @@ OUTPUTS: dict[str, dict[str, tuple[str, str]]] = {
         "w1p": ("rad/s", "rotation of the struck ball after (x, y, z)"),
         "omega1": ("m/s", "normal velocity lost by the striking ball, χ0 − χ1"),
         "T": ("kg·m/s", "tangential impulse on the struck ball (y, z)"),
-        "converged": ("flag", "the §VI normal-impulse fixed point converged (true where there is none)"),
+        "s_c": ("m/s", "slip at the greatest compression (y, z)"),
+        "converged": ("flag", "the end of the impact (law (6)) converged (true where there is none)"),
     } for name in ("spheres-free", "spheres-cloth")},
     "cue-stroke": {
         "chi1": ("m/s", "velocity of the centre along Cx (the cue's vertical plane)"),

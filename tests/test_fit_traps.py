@@ -49,8 +49,9 @@ WARNED = {
     "ball-ball as written": ("ball-ball", "ball-ball.csv", same, BB, set(), ()),
     "bounces as written": ("bounces", "bounces.csv", same, ("--h0", "0.5"), set(), ()),
     "ricochet as written": ("ricochet", "ricochet.csv", same, (), set(), ()),
+    # read as written, the mirrored directions leave f and e undetermined (rank 1): also true, also said
     "ball-ball directions mirrored (clockwise)": ("ball-ball", "ball-ball.csv", chain(scale(3, -1), scale(5, -1)), BB,
-                                                  {"convention", "noise-implausible"},
+                                                  {"convention", "noise-implausible", "not-identifiable"},
                                                   ("clockwise", "negate both direction columns")),
     "ball-ball cue and object columns swapped": ("ball-ball", "ball-ball.csv",
                                                  header([*BB_HEAD[:2], *BB_HEAD[4:], *BB_HEAD[2:4]]), BB,

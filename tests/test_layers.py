@@ -94,3 +94,19 @@ def test_the_fit_package_and_the_kinds_data_import_nothing_heavy():
         mods = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
         mods |= {n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
         assert mods <= {"__future__", "dataclasses"}, (rel, mods)
+
+
+def test_the_referees_share_no_code_with_the_paths_they_check():
+    """A referee (``mechanics.referee``) imports from the project only the ODE budget: no model module, no slip
+    decay, no path machinery, no older reference; two paths that share a function are one witness, not two. And
+    every impact model declares a referee path in the registry, which is where bench and stress find it."""
+    g = _imports()
+    referees = [m for m in g if m.startswith("reproductions.mechanics.referee.")]
+    assert {m.rpartition(".")[2] for m in referees} >= {"spheres", "cushion", "plane", "cue"}
+    for mod in referees:
+        assert g[mod] <= {"reproductions.mechanics.budget"}, (mod, g[mod])
+    from reproductions.mechanics import paths, registry
+
+    for name in ("plane-impact", "cushion-impact", "spheres-free", "spheres-cloth", "cue-stroke"):
+        kinds = {p.kind for p in registry.MODELS[name].paths}
+        assert paths.Kind.REFEREE in kinds, name

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 import shlex
 
 import numpy as np
@@ -44,46 +43,27 @@ def _cut_scene(V: float, roll: float, R: float) -> dict:
     return {"v": [V, 0.0, 0.0], "w": [0.0, roll * V / R, 0.0]}
 
 
-def _law6(s: dict):
-    """h(ω) = G(λ(ω)) − ω of law (6) on the cloth (n°13), λ from the exact slip decay after the impulse f ω, and
-    the ω at which the slip would just stop."""
-    M, Mp, k, kp, f, eps, epsp = (float(np.ravel(s[x])[0]) for x in ("M", "Mp", "k", "kp", "f", "eps", "epsp"))
-    v, vp = np.ravel(s["v"]), np.ravel(s["vp"])
-    mu, approach = M / Mp, v[0] - vp[0]
-    s0 = spheres.contact_slip(np.asarray(s["v"]), np.asarray(s["w"]), np.asarray(s["vp"]), np.asarray(s["wp"]),
-                              np.asarray(s["R"]), np.asarray(s["Rp"])).ravel()
-    a0, b0 = abs(s0[0]), abs(s0[1])
-    cy, cz = (1 + k) / M + (1 + kp) / Mp, k / M + kp / Mp
-    dec = slip.SlipDecay(np.array([a0]), np.array([b0]), np.array([M * cy]), np.array([M * cz]))
-    a, b, _ = dec.at(np.array([f * approach / (1 + mu)]), np.arange(1))
-    w_c = math.hypot(float(a[0]), float(b[0]))  # the slip at the greatest compression
-
-    def h(om: float) -> float:
-        a1, b1, _ = dec.at(np.array([f * om]), np.arange(1))
-        lam = math.hypot((a0 - a1[0]) / cy, (b0 - b1[0]) / cz) / (M * om)
-        S = (1 + lam**2 * (1 + k)) * (1 + eps) + mu * (1 + lam**2 * (1 + kp)) * (1 + epsp)
-        return (2 * approach + 2 * lam * math.hypot(*s0) - 2 * lam * w_c) / S - om
-
-    return h, float(dec.total[0]) / f
-
-
 def _law6_residual(m: paths.Model, s: dict, r: spheres.SpheresImpact) -> float:
-    """|h(ω1)| / ω1 for the result's ω1."""
-    h, _ = _law6(s)
-    om1 = float(np.ravel(r.omega1)[0])
-    return abs(h(om1)) / om1
+    """Law (6) of §I evaluated literally on the returned state (``Model.impact``: vis viva lost, the lost
+    velocities' Σ m U², the work 2T·s_c), relative to its terms."""
+    return float(np.max(m.impact(s, r).law))
 
 
-def test_the_cloth_normal_impulse_reaches_its_fixed_point_in_the_scene_of_the_issue():
-    """§VI: six rounds without a convergence test left v′1 at 0.00864 where the fixed point gives 0.01044."""
+def test_the_cloth_impact_without_restitution_ends_at_equal_normal_velocities():
+    """§VI: the scene of an old fixed-point defect, at ε = ε′ = 1. §I n°2 ends an impact without restitution at
+    the greatest compression, so both balls leave with the common normal velocity M v/(M + M′), whatever f and the
+    spin. (The faulty law of earlier versions left v′1 at 0.01044, the pair still approaching.)"""
     m = registry.MODELS["spheres-cloth"]
     R = 0.013496694839337284
-    s = m.scene({"M": 8.727891376422614, "Mp": 0.27218313455075216, "R": R, "Rp": R, "f": 1.0, "eps": 1.0,
-                 "epsp": 1.0, **_cut_scene(0.014877428020986336, 1.1183714534417355, R)})
-    r = paths.solve(m, s, "exact")
-    assert bool(np.all(r.converged))
-    assert float(np.ravel(r.v1p)[0]) == pytest.approx(0.01044, abs=5e-6)
-    assert _law6_residual(m, s, r) < 1e-12
+    M, Mp, V = 8.727891376422614, 0.27218313455075216, 0.014877428020986336
+    s = m.scene({"M": M, "Mp": Mp, "R": R, "Rp": R, "f": 1.0, "eps": 1.0, "epsp": 1.0,
+                 **_cut_scene(V, 1.1183714534417355, R)})
+    for path in ("exact", "ode", "reference"):
+        r = paths.solve(m, s, path)
+        assert bool(np.all(r.converged))
+        assert float(np.ravel(r.v1p)[0]) == pytest.approx(M * V / (M + Mp), rel=1e-9), path
+        assert float(np.ravel(r.v1)[0]) == pytest.approx(M * V / (M + Mp), rel=1e-9), path
+        assert _law6_residual(m, s, r) < 1e-12
 
 
 @pytest.mark.parametrize("scene", [
@@ -101,13 +81,13 @@ def test_the_cloth_normal_impulse_reaches_its_fixed_point_in_the_scene_of_the_is
      "wp": [-351.45551229545345, -29.40189134774326, 442.61444324752415], "f": 8.566770968216131,
      "eps": 0.7137743697374507, "epsp": 0.49057884956314657},
 ], ids=["fixed-point-cycle", "newton-crawl"])
-def test_extreme_mass_ratios_on_the_cloth_converge_and_agree_with_the_ode(scene):
+def test_extreme_mass_ratios_on_the_cloth_converge_and_agree_with_the_referee(scene):
     m = registry.MODELS["spheres-cloth"]
     s = m.scene(scene)
     r = paths.solve(m, s, "exact")
     assert bool(np.all(r.converged))
     assert _law6_residual(m, s, r) < 1e-9
-    assert m.error(s, r, paths.solve(m, s, "ode")).max() < m.path("ode").accuracy
+    assert m.error(s, r, paths.solve(m, s, "reference")).max() < m.path("reference").accuracy
 
 
 @pytest.mark.parametrize("command", ["simulate direct-impact --set V0=-1 --set eps=0 --set epsp=0",
@@ -185,13 +165,13 @@ def test_k_one_and_an_extreme_mass_ratio_on_the_cloth():
                  "f": 0.19993690558610364, "eps": 0.9692405304231518, "epsp": 0.26621247757500444})
     r = paths.solve(m, s, "exact")
     assert bool(np.all(r.converged))
-    assert m.error(s, r, paths.solve(m, s, "ode")).max() < m.path("ode").accuracy
+    assert m.error(s, r, paths.solve(m, s, "reference")).max() < m.path("reference").accuracy
 
 
-def test_law_6_on_the_cloth_has_three_roots_next_to_the_slip_stop_boundary_for_large_f():
-    """The explained failure of `resal stress` (``stress.EXPLAINED``): f = 3.2, h = G − ω changes sign three times
-    within 1e-7 of the ω where the slip stops; the fixed point takes one of the roots, and which one may flip as
-    the scene moves (an output jump of ~2e-8 of the speed scale)."""
+def test_law_6_on_the_cloth_has_one_root_where_the_faulty_law_had_three():
+    """The scene of a failure `resal stress` once explained away: with the faulty law, h changed sign three times
+    within 1e-7 of the slip's stop at f = 3.2. Law (6) written for the cloth, G(ω) (``spheres`` docstring),
+    increases beyond the greatest compression: one root, which the exact path and the referee both find."""
     m = registry.MODELS["spheres-cloth"]
     s = m.scene({"M": 4.91618225381749e-06, "Mp": 0.2021317000887411, "k": 0.7405650475086036,
                  "kp": 9.420060626585483, "v": [21.216799497919787, 2.1598729873358096, 0.0],
@@ -199,11 +179,42 @@ def test_law_6_on_the_cloth_has_three_roots_next_to_the_slip_stop_boundary_for_l
                  "vp": [-3.677854724117022, 7.102493489882631, 0.0],
                  "wp": [-474.0964613061153, -751.1675760870136, -744.9475552009246], "f": 3.178057422363023,
                  "eps": 0.0, "epsp": 0.10719456003905803})
-    h, om_b = _law6(s)
-    signs = [np.sign(h(om_b * (1 + d))) for d in (-1e-7, 0.0, 1e-7, 1.0)]
-    assert signs == [1.0, -1.0, 1.0, -1.0]
     r = paths.solve(m, s, "exact")
     assert bool(np.all(r.converged)) and _law6_residual(m, s, r) < 1e-12
+    # G sampled densely from the greatest compression to past the end: it never decreases
+    M, Mp, k, kp, f = (float(np.ravel(s[x])[0]) for x in ("M", "Mp", "k", "kp", "f"))
+    mu, approach = M / Mp, float(np.ravel(s["v"])[0] - np.ravel(s["vp"])[0])
+    s0 = spheres.contact_slip(*(np.asarray(s[x]) for x in ("v", "w", "vp", "wp", "R", "Rp"))).ravel()
+    cy, cz = (1 + k) / M + (1 + kp) / Mp, k / M + kp / Mp
+    coef = spheres._law_coefficients(np.float64(M), np.float64(mu), np.float64(k), np.float64(kp),
+                                     np.float64(0.0), np.float64(float(np.ravel(s["epsp"])[0])), np.float64(cy),
+                                     np.float64(cz), True)
+    dec = slip.SlipDecay(np.abs(s0[:1]), np.abs(s0[1:]), np.array([M * cy]), np.array([M * cz]))
+    om_c = approach / (1 + mu)
+    grid = np.linspace(om_c, 1.5 * float(np.ravel(r.omega1)[0]), 4001)
+    a, b, _ = dec.at(f * grid, np.zeros(grid.size, dtype=int))
+    ac, bc, _ = dec.at(np.array([f * om_c]), np.arange(1))
+    G = spheres.law6_G(grid, abs(s0[0]) - a, abs(s0[1]) - b, abs(s0[0]) - ac[0], abs(s0[1]) - bc[0], approach, coef)
+    assert np.all(np.diff(G) >= -1e-12 * np.max(np.abs(G))) and G[0] <= 0 < G[-1]
+    assert m.error(s, r, paths.solve(m, s, "reference")).max() < 1e-9
+
+
+def test_a_huge_slip_on_the_cloth_converges_at_the_noise_of_law_6():
+    """Found by `resal stress` (7 scenes in 1e6): a slip 3e5 times the approach speed loses five digits in the slip
+    lost, Y = |s0| − |s|, so Newton's steps on law (6) stall near 1e-12 of ω1 and never met 1e-14; it said not
+    converged. It now stops where its step no longer halves below 1e-11, and agrees with the referee."""
+    m = registry.MODELS["spheres-cloth"]
+    s = m.scene({"M": 0.35113167712881244, "Mp": 0.7341853141867917, "R": 7.379004020498154,
+                 "Rp": 7.379004020498154, "k": 9.619413820460498, "kp": 9.761553732756209,
+                 "v": [18.21138800341213, -7.436891913287291, 0.0],
+                 "w": [-146936.82098645624, 1200162.1321208098, 600509.7718570806],
+                 "vp": [-11.55624296561483, 3.6969001920449243, 0.0],
+                 "wp": [-999.5477815901606, 1146.793794039454, -1007.440679707795], "f": 9.481213172336089,
+                 "eps": 0.0, "epsp": 0.3875623187430971})
+    r = paths.solve(m, s, "exact")
+    assert bool(np.all(r.converged))
+    assert m.error(s, r, paths.solve(m, s, "reference")).max() < m.path("reference").accuracy
+    assert _law6_residual(m, s, r) < 1e-9
 
 
 @pytest.mark.parametrize("model", ["spheres-free", "spheres-cloth"])
@@ -222,6 +233,8 @@ def test_the_spheres_ode_path_solves_law_6_itself(model, monkeypatch):
     ode = paths.solve(m, s, "ode")
     assert bool(np.all(ode.converged))
     assert m.error(s, exact, ode).max() < m.path("ode").accuracy
+    # both share law (L): the referee, which shares nothing, judges them
+    assert m.error(s, ode, paths.solve(m, s, "reference")).max() < m.path("ode").accuracy
 
 
 def test_a_solver_failure_in_simulate_is_one_message_not_a_traceback(monkeypatch):

@@ -183,7 +183,8 @@ class Ball:
 
 def after_impact(b: Ball, V: Any, s: Any, e: Any, f: Any) -> dict[str, np.ndarray]:
     """Right after the §VI impact (head on, on the cloth): centre speeds and R ω of both balls (along the motion);
-    ``normal_e`` = (v1′ − v1)/V, the ratio of the normal velocities, which friction work lowers below e."""
+    ``normal_e`` = (v1′ − v1)/V, the ratio of the normal velocities: e exactly while the slip (vertical only, head
+    on) does not stop during the impact (law (6), ``spheres`` docstring); above e where it stops."""
     V, s, e, f = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (V, s, e, f)))
     z = np.zeros_like(V)
     v0 = np.stack([V, z, z], -1)

@@ -4,10 +4,10 @@ angle markers of oblique collisions (Doménech-Carbó 2023: the cue ball's turn 
 A cue ball in natural roll strikes a ball at rest; ``fit.estimators.markers`` predicts the angles right after the
 impact and fits the ball–ball friction f and Newton's e (ε = ε′ = (1 − e)/(1 + e), §I eq. (9)) by profile
 likelihood: to α1 alone, to δ2 alone, and to both. The rows then judge the mechanics, not the paper's print: do the
-two series agree on (f, e), is δ2 the object ball's throw (the reading the physics supports) or the separation's
-departure from 90°, do the residuals trend with ψ (a constant f through the impact, §VI's premise, would leave
-none), and how do the fitted f and e compare with today's values (μ(v) at the impact's slip speeds; e of pool balls)
-and with Coriolis's f < 0.03 that the paper adopts (§VI n°13, l. 610)?
+two series agree on (f, e), which reading of δ2 fits (the object ball's throw, the separation's departure from 90°,
+the cue ball's from the tangent line), do the residuals trend with ψ (a constant f through the impact, §VI's
+premise, would leave none), and how do the fitted f and e compare with today's values (μ(v) at the impact's slip
+speeds; e of pool balls) and with Coriolis's f < 0.03 that the paper adopts (§VI n°13, l. 610)?
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ from scipy import stats
 
 from ..config import Experiment, Node
 from ..fit.estimators import markers as mk
+from ..fit.estimators import shots
 from ..results import modern_table
 from ..series import Markers, read_markers
 from .base import (
@@ -90,14 +91,23 @@ def _ci(x: tuple[float, float], d: int = 3) -> str:
     return f"[{x[0]:.{d}f}, {x[1]:.{d}f}]"
 
 
-def _rival(f: mk.MarkerFit) -> str:
-    """A second valley of the likelihood, said where the fit is reported (α1 turns back with f where the slip stops
-    during the impact)."""
+def f_stop_head_on(e: float, model: mk.Model) -> float:
+    """The friction above which a natural-roll cue ball's slip on the object ball (vertical, v) stops during a
+    head-on impact (§VI, law (6)): the slip decays at f(k + k′)/M per unit of normal impulse (the cloth blocks the
+    vertical translations, c_z = k/M + k′/M′) and the impulse is M v (1 + e)/2, so f = 2/((k + k′)(1 + e))."""
+    return 2.0 / (2 * model.k * (1 + e))
+
+
+def _rival(f: mk.MarkerFit, model: mk.Model) -> str:
+    """A local minimum of the profile outside the interval, said where the fit is reported, with what makes the
+    profile uneven there: beyond the f at which the cue ball's slip stops during the impact, α1 changes fast with f
+    and the markers cross that boundary one by one."""
     if f.rival is None:
         return ""
     rf, re_, d = f.rival
-    return (f"; a second valley at f = {rf:.3g}, e = {re_:.3g} fits {d:.2g} worse in −2 ln L (outside the 95 % "
-            "interval, not excluded by the markers alone: the throw settles it)")
+    return (f"; beyond f = {f_stop_head_on(f.e, model):.3f}, where the cue ball's slip stops during a head-on "
+            f"impact, the profile rises steeply and unevenly: a local minimum at f = {rf:.3g}, e = {re_:.3g} fits "
+            f"{d:.2g} worse in −2 ln L (outside the 95 % interval)")
 
 
 def _fit_row(fid: str, label: str, value: float, ci: tuple[float, float], identified: bool, at_bound: str | None,
@@ -168,11 +178,20 @@ def run(exp: Experiment) -> Reproduction:
         return Comparison(
             s.slope * 10, f"δ2 read as {READINGS[key]}: residual slope {s.slope * 10:+.2f}°/10°",
             f"± {s.stderr * 10:.2f}°/10° (1σ)", 0.0, None, "inconsistent" if bad else "consistent",
-            f"fitted alone: f = {f.f:.3f}, e = {f.e:.3f}{' (at its bound)' if f.at_bound_e else ''}, rms "
+            f"fitted alone: f = {f.f:.3f}, e = {f.e:.3f}{' (at its bound)' if f.at_bound_e else ''}"
+            + (f" {_ci(f.ci_e)}" if f.e_identified else "") + f", rms "
             f"{f.sigma[0]:.2f}°, −2lnL {f.m2lnl:.1f} against {ft.m2lnl:.1f} for the throw (a) (Δ = {worse:.1f}); "
-            f"residual slope p = {_p(s.p)}.")
+            f"residual slope p = {_p(s.p)}"
+            + (f"; its e interval and that of α1 alone, {fa.e:.3f} {_ci(fa.ci_e)}, do not overlap: the same impacts "
+               "cannot have both" if f.e_identified and fa.e_identified
+               and (f.ci_e[0] > fa.ci_e[1] or f.ci_e[1] < fa.ci_e[0]) else "") + ".")
 
     overlap_e = (max(fj.ci_e[0], e_lo), min(fj.ci_e[1], e_hi))
+    # the normal ratio of the impacts at the joint fit, over the markers' ψ (law (6): e where the slip keeps one
+    # direction, head on; the cut turns it on the cloth)
+    ratio = shots.predict_shots(model.speed, np.radians(grid_psi), f_bb=fj.f, e=fj.e, R=model.R, k=model.k,
+                                M=model.M).normal_e
+    inside_e = e_lo <= fj.ci_e[0] and fj.ci_e[1] <= e_hi
     comparisons = {
         "series_agree": Comparison(
             lr, f"Λ = {lr:.2f}", f"χ² with {dof} degrees of freedom if the series share (f, e)", 0.0,
@@ -214,11 +233,15 @@ def run(exp: Experiment) -> Reproduction:
             None, f"e = {e_lo:.2f}–{e_hi:.2f} (pool and snooker balls today)", "a range of sources", fj.e, fj.ci_e,
             "consistent" if overlap_e[0] <= overlap_e[1] else "inconsistent",
             f"e of the joint fit {fj.e:.3f} {_ci(fj.ci_e)} "
-            + (f"overlaps today's range only at {overlap_e[0]:.3f}–{overlap_e[1]:.3f}, its top, and lies above "
+            + ((f"lies inside today's range {e_lo:.2f}–{e_hi:.2f}" if inside_e else
+                f"overlaps today's range only at {overlap_e[0]:.3f}–{overlap_e[1]:.3f}")
+               + ", above the typical "
                + " and ".join(f"{r['typ']:g} ({str(r['source']).split(',')[0]})" for r in e_rows if r["typ"])
                if overlap_e[0] <= overlap_e[1] else
                "does not overlap today's range")
-            + ". e is law (6)'s parameter: the impact's normal ratio is lower, friction doing work."),
+            + f". e is the normal ratio of the impact where the friction keeps one direction (law (6)); at the fit "
+              f"the ratio runs {float(ratio.min()):.4f}–{float(ratio.max()):.4f} over ψ = {grid_psi[0]:.0f}–"
+              f"{grid_psi[-1]:.0f}° (the cut turns the slip on the cloth)."),
     }
     fits = [
         _fit_row("joint.f", "f (α1 + δ2 as throw)", fj.f, fj.ci_f, fj.f_identified, fj.at_bound_f, mk.F_BOUNDS,
@@ -226,7 +249,7 @@ def run(exp: Experiment) -> Reproduction:
         _fit_row("joint.e", "e (α1 + δ2 as throw)", fj.e, fj.ci_e, fj.e_identified, fj.at_bound_e, mk.E_BOUNDS,
                  "Newton's e of law (6), ε = (1 − e)/(1 + e)"),
         _fit_row("alpha1.f", "f (α1 alone)", fa.f, fa.ci_f, fa.f_identified, fa.at_bound_f, mk.F_BOUNDS,
-                 f"{pa.size} markers, σ̂ {fa.sigma[0]:.2f}°; f and e trade along a valley" + _rival(fa)),
+                 f"{pa.size} markers, σ̂ {fa.sigma[0]:.2f}°; f and e trade along a valley" + _rival(fa, model)),
         _fit_row("alpha1.e", "e (α1 alone)", fa.e, fa.ci_e, fa.e_identified, fa.at_bound_e, mk.E_BOUNDS,
                  "friction and e < 1 both lower α1"),
         _fit_row("throw.f", "f (δ2 as throw alone)", ft.f, ft.ci_f, ft.f_identified, ft.at_bound_f, mk.F_BOUNDS,
@@ -283,8 +306,9 @@ def _figures(m: Markers, model: mk.Model, fj: mk.MarkerFit, fa: mk.MarkerFit, re
         ylim=(-0.2, 8.0), legend="below",
         reading=("The δ2 markers against ψ with three readings of them, each with its best (f, e): the object ball's "
                  "throw off the line of centres (a, solid, with the joint fit's band), 90° minus the separation "
-                 "angle (b) and the cue ball's departure from the tangent line (c1), dashed. Only the throw follows "
-                 "the markers' steady rise from 1° to 6°; the kink of (c1) is where, with its large f, the contact "
+                 "angle (b) and the cue ball's departure from the tangent line (c1), dashed. "
+                 f"(a) and (b) both follow the markers' rise (−2 ln L {readings['throw'].m2lnl:.1f} and "
+                 f"{sep.m2lnl:.1f}); (c1) does not ({cue.m2lnl:.1f}): its kink is where, with its large f, the contact "
                  "stops slipping during the impact (at smaller ψ)."))
     panels = []
     for part, s, title in ((alpha, slopes[0], "α1"), (throw, slopes[1], "δ2 read as throw")):

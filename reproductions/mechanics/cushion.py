@@ -88,13 +88,17 @@ def _resal(phi0: np.ndarray, psi0: np.ndarray, k: np.ndarray, budget: np.ndarray
     r2 = (psi0 / np.where(phi0 > 0, phi0, 1.0)) ** 2
     A = 1 + r2 + e * r2  # integrand √(A + Bφ)
     B = -e * r2 / np.where(phi0 > 0, phi0, 1.0)
-    lhs = (1 + k) * budget  # j(1 + k)(1 + ν)a = ∫_{φ1}^{φ0} √(A + Bφ) dφ
+    lhs = (1 + k) * budget  # j(1 + k)(1 + ν)a = ∫_{φ1}^{φ0} √(A + Bφ) dφ = (2/3B)[(A + Bφ0)^(3/2) − (A + Bφ1)^(3/2)]
+    # φ1 − φ0 = [(A + Bφ1) − (A + Bφ0)]/B = top^(2/3)·[(1 − x)^(2/3) − 1]/B with x = 3B·lhs/(2 top), written with
+    # expm1 and log1p: (cbrt(inner)² − A)/B cancels when B is tiny (ψ0 ≪ φ0) and missed j = 0 by 3e-5 of the speeds
+    # (``resal stress``'s elastic limit); B → 0 gives φ0 − lhs/√A
     with np.errstate(invalid="ignore", divide="ignore"):
         top = (A + B * phi0) ** 1.5
-        inner = top - 1.5 * B * lhs
-        phi1_curved = (np.cbrt(inner) ** 2 - A) / B
-    phi1_flat = phi0 - lhs / np.sqrt(A)  # B = 0: no vertical slip
-    phi1 = np.where(B == 0, phi1_flat, phi1_curved)
+        x = 1.5 * B * lhs / top
+        safeB = np.where(B == 0, 1.0, B)
+        step = np.where(B == 0, -lhs / np.sqrt(A),
+                        np.cbrt(top) ** 2 * np.expm1(np.log1p(-np.minimum(x, 1.0)) * (2.0 / 3.0)) / safeB)
+        phi1 = np.where(x >= 1, 0.0, phi0 + step)
     phi1 = np.clip(np.nan_to_num(phi1, nan=0.0), 0.0, phi0)
     psi1 = psi0 * np.where(phi0 > 0, phi1 / np.where(phi0 > 0, phi0, 1.0), 0.0) ** (k / (1 + k))
     return phi1, psi1
@@ -104,7 +108,16 @@ def _ode(chi0: np.ndarray, pR0: np.ndarray, nR0: np.ndarray, k: np.ndarray, j: n
          pi_end: np.ndarray, rtol: float = 1e-11, solver: str = "DOP853") -> tuple[np.ndarray, ...]:
     """Integrate eqs (2) of n°11 in the normal impulse π over [0, (1 + ν)a]: dχ = −jφ/v, d(pR) = kjφ/v,
     d(nR) = −kjψ/v, until the slip v vanishes (an event), after which the contact holds without friction.
-    Returns χ1, p1R, n1R; nothing of eqs (5)–(10) is used."""
+    Returns χ1, p1R, n1R; nothing of eqs (5)–(10) is used.
+
+    The stop event is the slip projected on (sign φ0, sign ψ0), |φ| + |ψ| while both keep their signs: both reach
+    zero together, so it crosses zero once, cleanly. Not on the unit vector of the initial slip: the slip turns
+    towards ψ as it slows (φ/ψ ∝ (ψ/ψ0)^(1/k)), and with ψ0 ≪ |φ0| that projection weights the last of the slip by
+    ψ0/|φ0| while φ = χ − pR, a difference of two states, carries an error of order rtol·|χ| (it oscillates about
+    0 once φ has died, the decay rate j(1 + k)/v being stiff there): the event fired when the remaining ψ was
+    |χ|·rtol·|φ0|/ψ0, and n1R kept it (1.7e-7 of the speed scale at k = 0.023, ψ0/φ0 ≈ 1e-5). At the event the
+    slip is closed, ψ = 0 and χ = pR = (kχ + pR)/(1 + k): eqs (2) keep kχ + pR (the angular momentum about the
+    contact), and the residual slip is the integration's error."""
     from scipy.integrate import solve_ivp
 
     out = np.empty((3, *chi0.shape))
@@ -115,7 +128,7 @@ def _ode(chi0: np.ndarray, pR0: np.ndarray, nR0: np.ndarray, k: np.ndarray, j: n
         if jj == 0 or pi_end[idx] == 0 or scale == 0:
             out[(slice(None), *idx)] = y0
             continue
-        e0 = np.array([y0[0] - y0[1], y0[2]]) / np.hypot(y0[0] - y0[1], y0[2])
+        sides = (float(np.sign(y0[0] - y0[1])), float(np.sign(y0[2])))
 
         def rhs(_pi: float, y: np.ndarray, kk: float = kk, jj: float = jj) -> list[float]:
             c0, c1, psi = y.tolist()  # floats: numpy's scalars cost 3× more per right-hand side
@@ -123,16 +136,21 @@ def _ode(chi0: np.ndarray, pR0: np.ndarray, nR0: np.ndarray, k: np.ndarray, j: n
             v = max(np.hypot(phi, psi), 1e-300)
             return [-jj * phi / v, kk * jj * phi / v, -kk * jj * psi / v]
 
-        def stops(_pi: float, y: np.ndarray, e0: np.ndarray = e0) -> float:
-            # the slip projected on its initial direction: both components keep their signs and reach zero
-            # together, so this crosses zero cleanly where |slip| − tiny would chatter (ARCHITECTURE.md)
-            return float((y[0] - y[1]) * e0[0] + y[2] * e0[1])
+        def stops(_pi: float, y: np.ndarray, sides: tuple[float, float] = sides) -> float:
+            # never |slip| − tiny, which would chatter (ARCHITECTURE.md); see the docstring for the weights
+            return float((y[0] - y[1]) * sides[0] + y[2] * sides[1])
 
         stops.terminal = True
+        stops.direction = -1
         sol = solve_ivp(bounded(rhs), (0.0, pi_end[idx]), y0, method=solver, rtol=rtol, atol=1e-14 * scale,
                         events=stops)
         check(sol)
-        out[(slice(None), *idx)] = sol.y[:, -1] if sol.status == 0 else sol.y_events[0][0]
+        if sol.status == 0:
+            out[(slice(None), *idx)] = sol.y[:, -1]
+        else:
+            c0, c1, _ = sol.y_events[0][0]
+            closed = (kk * c0 + c1) / (1 + kk)
+            out[(slice(None), *idx)] = (closed, closed, 0.0)
     return out[0], out[1], out[2]
 
 

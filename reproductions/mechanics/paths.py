@@ -24,8 +24,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ONES", "Kind", "Model", "Param", "Path", "PathCode", "PathError", "Regime", "always", "as_floats",
-           "auto_by_masks", "batch_arrays", "by_route", "codes", "every", "pick", "solve"]
+__all__ = ["ONES", "ImpactCheck", "Kind", "Model", "Param", "Path", "PathCode", "PathError", "Regime", "always",
+           "as_floats", "auto_by_masks", "batch_arrays", "by_route", "codes", "every", "pick", "solve"]
 
 Scene = Mapping[str, np.ndarray]
 
@@ -38,6 +38,7 @@ class Kind(str, Enum):
     CORRECTED = "corrected-approximation"
     EXACT_NUMERICAL = "exact-numerical"
     ODE = "ode-reference"
+    REFEREE = "referee"  # Newton–Euler integrated in the impulse, sharing no code with the other paths
 
 
 class PathCode(IntEnum):
@@ -48,6 +49,7 @@ class PathCode(IntEnum):
     RESAL = 3  # Résal's approximation as printed
     RESAL_CORRECTED = 4  # Résal's approximation with a slip of the paper corrected
     ODE = 5  # direct integration of the equations of motion
+    REFERENCE = 6  # the referee: every velocity component integrated, the model's law evaluated literally
 
 
 class Regime(IntEnum):
@@ -185,6 +187,20 @@ class Path:
 
 
 @dataclass(frozen=True)
+class ImpactCheck:
+    """What an impact model's declared law says of a returned state, per scene (first principles, not the path's
+    own algebra): the normal approach speed at the contact before (> 0) and after (> 0: still approaching); the
+    normal ratio the law implies (nan where it implies none); where the impact must end at the greatest
+    compression (ε = ε′ = 1, §I n°2); the declared law's residual on the state, relative to its own scale."""
+
+    approach0: np.ndarray
+    approach1: np.ndarray
+    ratio: np.ndarray
+    plastic: np.ndarray
+    law: np.ndarray
+
+
+@dataclass(frozen=True)
 class Model:
     """A situation of the paper: its parameters, its paths (cheapest first on a tie), the scenes it admits."""
 
@@ -209,6 +225,10 @@ class Model:
     # are not speeds (times, lengths)
     output_scale: Callable[[Scene], dict[str, np.ndarray]] | None = None
     mirrored: Callable[[Any], dict[str, np.ndarray]] | None = None  # a result's outputs, mirrored back
+    # impact models: what the declared law implies on a returned state (``ImpactCheck``), and the frictionless
+    # elastic version of given scenes with its textbook outputs (``resal stress``'s invariants)
+    impact: Callable[[Scene, Any], ImpactCheck] | None = None
+    elastic: Callable[[Scene], tuple[dict[str, np.ndarray], dict[str, np.ndarray]]] | None = None
 
     def error(self, scene: Scene, a: Any, b: Any) -> np.ndarray:
         """Per scene, the largest difference of the compared outputs over the speed scale (angular velocities

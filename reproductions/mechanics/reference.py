@@ -37,48 +37,63 @@ class ReferenceImpact:
 
 def _one(M: float, Mp: float, V0: float, V0p: float, e: float, rtol: float, atol: float, solver: str = "DOP853"
          ) -> tuple[float, float, int]:
+    """One impact. The state is (overlap δ, u, u′), with u = v − V_G and u′ = v′ − V_G the velocities relative to
+    the centre of mass, V_G = V0′ + (M/(M + M′))(V0 − V0′) (a Galilean change: the contact force depends on the
+    overlap alone). Not the absolute positions and velocities: the relative error control of ``solve_ivp`` on those
+    is taken on |V0| or |x|, not on V0 − V0′ (2e-5 of error where |V0| ≈ 10⁵ (V0 − V0′)), the overlap δ = x − x′
+    carries the rounding of x, and near the maximal compression u − u′ is lost in the rounding of u and u′ when
+    they are large (the restitution of a nearly plastic impact, e|V0 − V0′| below the rounding of V0, never
+    started: the separation was missed); about the centre of mass both velocities pass through 0 there.
+    Newton for each body, M du/dt = −F, M′ du′/dt = F, with F = Kδ and K = μ (the compression lasts π/2), divided
+    through by μ: du/dt = −(M′/(M + M′)) δ, du′/dt = (M/(M + M′)) δ; the two fractions stay within [0, 1] for
+    every mass ratio (M′ = ∞: 1 and 0).
+
+    The restitution (stiffness K/e², from the overlap δ_max down to the permanent set δ_max(1 − e²)) runs in its
+    own scales: time τ = t/e and the elastic overlap over e, c = (δ − δ_p)/e, which starts at e δ_max (not the
+    difference δ_max − δ_p, which the rounding of δ_max swamps once e² < 1e-16) and obeys the compression's
+    equations in τ: dc/dτ = u − u′, du/dτ = −(M′/(M + M′)) c, du′/dτ = (M/(M + M′)) c. It lasts π/2 in τ whatever
+    e, so neither its span nor its step shrink with e (they did, in t: the budget ran out for nearly plastic
+    impacts, e ≲ 1e-5, when the separation event was lost in the rounding)."""
     if V0 <= V0p:  # no approach, no impact
         return V0, V0p, 0
-    mu = M if math.isinf(Mp) else M * Mp / (M + Mp)  # M′ = ∞: an immovable mass
-    K = mu  # time unit: the compression lasts π/2
     scale = V0 - V0p
+    a, ap = (1.0, 0.0) if math.isinf(Mp) else (Mp / (M + Mp), M / (M + Mp))  # μ/M and μ/M′; M′ = ∞: immovable
+    tol = [atol * scale] * 3  # δ is a speed times the time unit
+    VG = V0p + ap * scale  # the centre of mass, which the impact does not move
 
-    def compress(_t: float, y: np.ndarray) -> list[float]:
-        x, xp, v, vp = y.tolist()  # floats: the same arithmetic at a third of the cost of numpy scalars
-        F = K * (x - xp)
-        return [v, vp, -F / M, F / Mp]
+    def motion(_t: float, y: np.ndarray) -> list[float]:
+        d, u, up = y.tolist()  # floats: the same arithmetic at a third of the cost of numpy scalars
+        return [u - up, -a * d, ap * d]
 
     def max_compression(_t: float, y: np.ndarray) -> float:
-        return (float(y[2]) - float(y[3])) / scale
+        return (float(y[1]) - float(y[2])) / scale
 
     max_compression.terminal = True
     max_compression.direction = -1
-    sol = check(solve_ivp(bounded(compress), (0.0, 10.0), [0.0, 0.0, V0, V0p], rtol=rtol, atol=atol * scale,
-                    events=max_compression, method=solver))
-    y = sol.y_events[0][0]
+    # u − u′ crosses 0 at π/2, then again at 3π/2: a step under π/4 cannot step over the first crossing (loose
+    # tolerances only: DOP853 at rtol 1e-10 steps less)
+    sol = check(solve_ivp(bounded(motion), (0.0, 10.0), [0.0, a * scale, -ap * scale], rtol=rtol, atol=tol,
+                          events=max_compression, method=solver, max_step=math.pi / 4))
+    if sol.status != 1:
+        raise ArithmeticError("the compression did not end (no maximal overlap found)")
+    d_max, u, up = sol.y_events[0][0].tolist()
     nfev = sol.nfev
     if e == 0.0:  # nothing is given back: both move on with the common velocity u of §I n°3
-        return y[2], y[3], nfev
-    delta_max = y[0] - y[1]
-    K2 = K / e**2
-    delta_p = delta_max * (1.0 - e**2)
-
-    def restitute(_t: float, z: np.ndarray) -> list[float]:
-        x, xp, v, vp = z.tolist()
-        F = K2 * (x - xp - delta_p)
-        return [v, vp, -F / M, F / Mp]
+        return VG + u, VG + up, nfev
 
     def separation(_t: float, z: np.ndarray) -> float:
-        return (z[0] - z[1] - delta_p) / max(delta_max, 1e-300)
+        return float(z[0])  # c itself: e δ_max may be below the smallest normal float
 
     separation.terminal = True
     separation.direction = -1
-    # the restitution lasts a quarter period of the stiffer spring, (π/2)·e: a step longer than that can step over
-    # the separation and the tension beyond it, and the event is missed (seen for nearly plastic impacts, e ≈ 5e-4)
-    sol2 = check(solve_ivp(bounded(restitute), (0.0, 10.0 * e + 1.0), y, rtol=rtol, atol=atol * scale,
-                           events=separation, method=solver, max_step=e * math.pi / 16))
-    z = sol2.y_events[0][0]
-    return z[2], z[3], nfev + sol2.nfev
+    # a quarter period, π/2 in τ; the step bound keeps a step from stepping over the separation and the tension
+    # beyond it (the linear spring would pull back)
+    sol2 = check(solve_ivp(bounded(motion), (0.0, 10.0), [e * d_max, u, up], rtol=rtol, atol=tol,
+                           events=separation, method=solver, max_step=math.pi / 16))
+    if sol2.status != 1:
+        raise ArithmeticError("the restitution did not end (no separation found)")
+    _c, u, up = sol2.y_events[0][0].tolist()
+    return VG + u, VG + up, nfev + sol2.nfev
 
 
 def integrate_direct_impact(

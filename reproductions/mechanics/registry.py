@@ -16,6 +16,7 @@ import numpy as np
 
 from . import cloth, cue, cushion, impact, plane, reference, spheres
 from .paths import (
+    ImpactCheck,
     Kind,
     Model,
     Param,
@@ -26,6 +27,10 @@ from .paths import (
     as_floats,
     codes,
 )
+from .referee import cue as referee_cue
+from .referee import cushion as referee_cushion
+from .referee import plane as referee_plane
+from .referee import spheres as referee_spheres
 
 __all__ = ["MODELS", "model"]
 
@@ -99,6 +104,16 @@ def _plane_ode(chi0: Any, zeta0: Any, p0: Any, *, R: Any, k: Any, f: Any, nu: An
     regime = np.where(v0 == 0, Regime.NO_SLIP, np.where(np.isnan(r.slip_stopped_at), Regime.SLIDE, Regime.GRIP))
     return plane.PlaneImpact(r.chi1, r.zeta1, r.p1, "ode", codes(np.shape(r.chi1), PathCode.ODE),
                              regime.astype(np.int8), r.method)
+
+
+def _plane_reference(s: Scene, rtol: float = 1e-13, solver: str = "DOP853") -> plane.PlaneImpact:
+    """The referee (``referee.plane``: the free sphere's six velocity components in the normal impulse, the slip's
+    stop an event, the end at ζ = −νζ0) as the model's result."""
+    r = referee_plane.solve(s, rtol)
+    shape = np.shape(r.chi1)
+    v0 = np.broadcast_to(np.asarray(s["chi0"], dtype=float) - np.asarray(s["p0"], dtype=float) * s["R"], shape)
+    regime = np.where(v0 == 0, Regime.NO_SLIP, np.where(r.stopped, Regime.GRIP, Regime.SLIDE)).astype(np.int8)
+    return plane.PlaneImpact(r.chi1, r.zeta1, r.p1, "reference", codes(shape, PathCode.REFERENCE), regime, r.label)
 
 
 def _plane_resal_exact(s: Scene) -> np.ndarray:
@@ -226,6 +241,18 @@ def _cushion(method: str):
     return run
 
 
+def _cushion_reference(s: Scene, rtol: float = 1e-13, solver: str = "DOP853") -> cushion.CushionImpact:
+    """The referee (``referee.cushion``: Newton–Euler in the normal impulse, the cloth bilateral as the model
+    declares, the slip's stop an event, the end at ζ = −νζ0) as the model's result."""
+    r = referee_cushion.solve(s, rtol)
+    shape = np.shape(r.chi1)
+    slip0 = np.broadcast_to(np.hypot(np.asarray(s["chi0"]) - np.asarray(s["p0"]) * np.asarray(s["R"]),
+                                     np.asarray(s["n0"]) * np.asarray(s["R"])), shape)
+    regime = np.where(slip0 == 0, Regime.NO_SLIP, np.where(r.stopped, Regime.GRIP, Regime.SLIDE)).astype(np.int8)
+    return cushion.CushionImpact(r.chi1, r.zeta1, r.p1, r.n1, "reference", codes(shape, PathCode.REFERENCE), regime,
+                                 r.label)
+
+
 def _cushion_elementary(s: Scene) -> np.ndarray:
     return cushion.elementary_applies(s["chi0"], s["p0"], s["n0"], s["R"], s["j"])
 
@@ -298,6 +325,20 @@ def _spheres(method: str, on_cloth: bool):
         return spheres.two_spheres(s["M"], s["Mp"], s["R"], s["Rp"], s["k"], s["kp"], s["v"], s["w"], s["vp"],
                                    s["wp"], f=s["f"], eps=s["eps"], epsp=s["epsp"], on_cloth=on_cloth, method=method,
                                    rtol=rtol, solver=solver)
+    return run
+
+
+def _spheres_reference(on_cloth: bool):
+    def run(s: Scene, rtol: float = 1e-13, solver: str = "DOP853") -> spheres.SpheresImpact:
+        """The referee (``referee.spheres``: Newton–Euler in the normal impulse, law (6) evaluated literally) as
+        the model's result; ``solver`` is DOP853 always (the referee's own choice)."""
+        r = referee_spheres.solve(s, on_cloth, rtol)
+        shape = np.shape(r.xi)
+        M = np.broadcast_to(np.asarray(s["M"], dtype=float), shape)
+        n0 = np.broadcast_to(_spheres_slip(s), shape)
+        regime = np.where(n0 == 0, Regime.NO_SLIP, np.where(r.stopped, Regime.GRIP, Regime.SLIDE)).astype(np.int8)
+        return spheres.SpheresImpact(r.v1, r.w1, r.v1p, r.w1p, r.xi / M, r.T, r.s_c, np.ones(shape, dtype=bool),
+                                     "reference", codes(shape, PathCode.REFERENCE), regime, r.label)
     return run
 
 
@@ -412,6 +453,9 @@ def _spheres_model(on_cloth: bool) -> Model:
         Path(PathCode.ODE, Kind.ODE, _spheres("ode", on_cloth), always, 1e-8, 1000,
              "slip integrated in the normal impulse (DOP853), normal impulse from law (6)",
              tuned=_spheres("ode", on_cloth), rtol=1e-11, solver="DOP853"),
+        Path(PathCode.REFERENCE, Kind.REFEREE, _spheres_reference(on_cloth), always, 1e-9, 2000,
+             "referee: every velocity component in the normal impulse, law (6) literally (DOP853)",
+             tuned=_spheres_reference(on_cloth), rtol=1e-13, solver="DOP853"),
     )
 
     def admissible(s: Scene) -> np.ndarray:
@@ -428,7 +472,7 @@ def _spheres_model(on_cloth: bool) -> Model:
         sample=_spheres_sample(on_cloth), scale=lambda s: np.abs(np.asarray(s["v"])[..., 0]
                                                                  - np.asarray(s["vp"])[..., 0]),
         vis_viva=_spheres_vis_viva, mirror=_spheres_mirror, mirrored=_spheres_mirrored,
-        momentum=_spheres_momentum(on_cloth))
+        momentum=_spheres_momentum(on_cloth), impact=_spheres_impact_check(on_cloth), elastic=_spheres_elastic)
 
 
 # ---- §VII: the cue -------------------------------------------------------------------------------------------
@@ -467,6 +511,22 @@ def _cue_ode(s: Scene, rtol: float = 1e-10, solver: str = "LSODA") -> cue.CueStr
     return cue.CueStroke(out[..., 0], out[..., 1], out[..., 2], out[..., 3], out[..., 4], out[..., 5],
                          out[..., 6], out[..., 7], out[..., 8], gamma, out[..., 9], "ode",
                          codes(shape, PathCode.ODE), regime, "ODE of eqs (3) in the cue impulse (LSODA)")
+
+
+def _cue_reference(s: Scene, rtol: float = 1e-12, solver: str = "DOP853") -> cue.CueStroke:
+    """The referee (``referee.cue``: every velocity component and the cue's speed integrated in the cue impulse,
+    the cloth by complementarity, its friction without regularisation, law (6) evaluated literally) as the model's
+    result; A and γ, which the integration does not form, are nan; the regime from the foot's slip after."""
+    r = referee_cue.solve(s, rtol)
+    shape = np.shape(r.chi1)
+    R, b, c, i, V0p = (np.broadcast_to(np.asarray(s[x], dtype=float), shape) for x in ("R", "b", "c", "i", "V0p"))
+    a = -np.sqrt(np.maximum(R * R - b * b - c * c, 0.0))
+    slip = np.hypot(r.chi1 - r.p1 * R, r.eta1 + r.n1 * R)
+    regime = np.where(slip > 1e-9 * V0p, Regime.SLIDE, Regime.GRIP).astype(np.int8)
+    nan = np.full(shape, np.nan)
+    return cue.CueStroke(r.chi1, r.eta1, r.n1, r.p1, r.q1, r.V1p, r.omega1, r.omega, nan, nan,
+                         -(a * np.cos(i) - c * np.sin(i)) / R, "reference", codes(shape, PathCode.REFERENCE), regime,
+                         r.label)
 
 
 def _cue_sample(rng: np.random.Generator, n: int) -> Scene:
@@ -512,6 +572,146 @@ def _cue_vis_viva(s: Scene, r: Any) -> tuple[np.ndarray, np.ndarray]:
     return Mp * np.asarray(s["V0p"]) ** 2, after
 
 
+# ---- impact invariants (``paths.ImpactCheck``): what each declared law implies, from first principles -----------
+def _rel(x: Any, scale: Any) -> np.ndarray:
+    x, scale = np.asarray(x, dtype=float), np.asarray(scale, dtype=float)
+    return np.abs(x) / np.where(scale > 0, scale, 1.0)
+
+
+# A law evaluated on a returned state in floating point: each velocity is known to an ulp, so the vis viva lost by
+# a ball 10⁶ times heavier than the other, or spinning 10³ times faster than the balls approach, is known only to
+# ~1e-16 of the vis viva itself. The law's measure weighs the residual against its terms, the normal impact's
+# scale, and ROUNDING_FLOOR × the vis viva before and after: a residual of ten ulps of the vis viva measures 1e-9.
+ROUNDING_FLOOR = 2e-6
+
+
+def _lost_vis_viva(M: Any, V0: Any, V1: Any) -> np.ndarray:
+    """M(V0 − V1)·(V0 + V1) summed over the last axis if vectors: the vis viva lost, without the cancellation of
+    M V0² − M V1² (the paper writes it so, §I n°5 (b))."""
+    V0, V1 = np.asarray(V0, dtype=float), np.asarray(V1, dtype=float)
+    d = (V0 - V1) * (V0 + V1)
+    return np.asarray(M, dtype=float) * (d.sum(axis=-1) if d.ndim and d.shape[-1:] == (3,) else d)
+
+
+def _direct_impact_check(s: Scene, r: Any) -> ImpactCheck:
+    """§I n°5: law (6) with no tangential impulse, M(V0² − V1²) + M′(V0′² − V1′²) = εM(V0 − V1)² + ε′M′(V0′ − V1′)²,
+    and the ratio it implies with momentum, 2(M + M′)/(M′(1 + ε) + M(1 + ε′)) − 1."""
+    M, Mp, V0, V0p, eps, epsp = (np.asarray(s[x], dtype=float) for x in ("M", "Mp", "V0", "V0p", "eps", "epsp"))
+    terms = [_lost_vis_viva(M, V0, r.V1), _lost_vis_viva(Mp, V0p, r.V1p), eps * M * (V0 - r.V1) ** 2,
+             epsp * Mp * (V0p - r.V1p) ** 2]
+    law = terms[0] + terms[1] - terms[2] - terms[3]
+    ratio = 2 * (M + Mp) / (Mp * (1 + eps) + M * (1 + epsp)) - 1
+    vis_viva = M * (V0 * V0 + r.V1 * r.V1) + Mp * (V0p * V0p + r.V1p * r.V1p)
+    return ImpactCheck(V0 - V0p, r.V1 - r.V1p, ratio, (eps == 1) & (epsp == 1),
+                       _rel(law, sum(np.abs(t) for t in terms) + M * (V0 - V0p) ** 2 + ROUNDING_FLOOR * vis_viva))
+
+
+def _direct_elastic(s: Scene) -> tuple[Scene, dict[str, np.ndarray]]:
+    M, Mp, V0, V0p = (np.asarray(s[x], dtype=float) for x in ("M", "Mp", "V0", "V0p"))
+    e = dict(s, eps=np.zeros_like(V0), epsp=np.zeros_like(V0))
+    return e, {"V1": ((M - Mp) * V0 + 2 * Mp * V0p) / (M + Mp), "V1p": ((Mp - M) * V0p + 2 * M * V0) / (M + Mp)}
+
+
+def _wall_impact_check(s: Scene, r: Any) -> ImpactCheck:
+    """§I eq. (9): law (6) against an immovable mass, V0² − V1² = ε(V0 − V1)²."""
+    V0, eps = np.asarray(s["V0"], dtype=float), np.asarray(s["eps"], dtype=float)
+    terms = [_lost_vis_viva(1.0, V0, r.V1), eps * (V0 - r.V1) ** 2]
+    return ImpactCheck(V0, np.asarray(r.V1, dtype=float), (1 - eps) / (1 + eps), eps == 1,
+                       _rel(terms[0] - terms[1], np.abs(terms[0]) + terms[1] + V0 * V0))
+
+
+def _normal_yield_check(s: Scene, r: Any, nu: np.ndarray, plastic: np.ndarray) -> ImpactCheck:
+    """§III, §IV: the declared law is the normal yield, ζ1 = −ν ζ0 (§I n°4's principle)."""
+    zeta0 = np.asarray(s["zeta0"], dtype=float)
+    return ImpactCheck(-zeta0, -np.asarray(r.zeta1, dtype=float), nu, plastic, _rel(r.zeta1 + nu * zeta0, zeta0))
+
+
+def _plane_elastic(s: Scene) -> tuple[Scene, dict[str, np.ndarray]]:
+    z = np.zeros(np.shape(s["zeta0"]))
+    e = dict(s, f=z, nu=z + 1.0)
+    return e, {"chi1": np.asarray(s["chi0"], dtype=float), "zeta1": -np.asarray(s["zeta0"], dtype=float),
+               "p1": np.asarray(s["p0"], dtype=float)}
+
+
+def _cushion_elastic(s: Scene) -> tuple[Scene, dict[str, np.ndarray]]:
+    z = np.zeros(np.shape(s["zeta0"]))
+    e = dict(s, j=z, eps=z)
+    return e, {"chi1": np.asarray(s["chi0"], dtype=float), "zeta1": -np.asarray(s["zeta0"], dtype=float),
+               "p1": np.asarray(s["p0"], dtype=float), "n1": np.asarray(s["n0"], dtype=float)}
+
+
+def _spheres_impact_check(on_cloth: bool):
+    """§V–§VI: law (6) evaluated literally on the returned state, with the slip at the greatest compression the
+    result reports (its work 2T·s_c, T on M′): vis viva lost = ε Σ m U² + ε′ Σ m′ U′² + 2T·s_c. The ratio it
+    implies (module docstring of ``spheres``): 2(1 + M/M′)/N − 1 without a tangential impulse (f = 0 or no slip),
+    e = (1 − ε)/(1 + ε) when ε = ε′ and the tangential impulse keeps one direction without the slip stopping
+    (free balls; on the cloth a slip along y or z alone); elsewhere none."""
+    def check_(s: Scene, r: Any) -> ImpactCheck:
+        M, Mp, R, Rp, k, kp, f, eps, epsp = (np.asarray(s[x], dtype=float)
+                                             for x in ("M", "Mp", "R", "Rp", "k", "kp", "f", "eps", "epsp"))
+        v, w, vp, wp = (np.asarray(s[x], dtype=float) for x in ("v", "w", "vp", "wp"))
+        I, Ip = M * R * R / k, Mp * Rp * Rp / kp  # noqa: E741
+        T = np.asarray(r.T, dtype=float)
+        s_c = np.asarray(r.s_c, dtype=float)
+        loss = [_lost_vis_viva(M, v, r.v1), _lost_vis_viva(I, w, r.w1), _lost_vis_viva(Mp, vp, r.v1p),
+                _lost_vis_viva(Ip, wp, r.w1p)]
+        lost = eps * (M * np.sum((v - r.v1) ** 2, -1) + I * np.sum((w - r.w1) ** 2, -1))
+        lostp = epsp * (Mp * np.sum((vp - r.v1p) ** 2, -1) + Ip * np.sum((wp - r.w1p) ** 2, -1))
+        work = 2 * np.sum(T * s_c, axis=-1)
+        law = sum(loss) - lost - lostp - work
+        before, after = _spheres_vis_viva(s, r)
+        scale = (sum(np.abs(x) for x in loss) + lost + lostp + np.abs(work) + M * (v[..., 0] - vp[..., 0]) ** 2
+                 + ROUNDING_FLOOR * (before + after))
+        s0 = spheres.contact_slip(v, w, vp, wp, R, Rp)
+        s1 = spheres.contact_slip(np.asarray(r.v1), np.asarray(r.w1), np.asarray(r.v1p), np.asarray(r.w1p), R, Rp)
+        n0, n1 = np.hypot(s0[..., 0], s0[..., 1]), np.hypot(s1[..., 0], s1[..., 1])
+        mu = M / Mp
+        none = (f == 0) | (n0 == 0)
+        one_way = ((s0[..., 0] == 0) | (s0[..., 1] == 0)) if on_cloth else np.ones(np.shape(f), dtype=bool)
+        slid = n1 > 1e-6 * n0  # the slip did not stop (it cannot start again)
+        ratio = np.where(none, 2 * (1 + mu) / ((1 + eps) + mu * (1 + epsp)) - 1,
+                         np.where((eps == epsp) & one_way & slid, (1 - eps) / (1 + eps), np.nan))
+        return ImpactCheck(v[..., 0] - vp[..., 0], r.v1[..., 0] - r.v1p[..., 0], ratio, (eps == 1) & (epsp == 1),
+                           _rel(law, scale))
+    return check_
+
+
+def _spheres_elastic(s: Scene) -> tuple[Scene, dict[str, np.ndarray]]:
+    M, Mp = np.asarray(s["M"], dtype=float), np.asarray(s["Mp"], dtype=float)
+    v, vp = np.array(s["v"], dtype=float), np.array(s["vp"], dtype=float)
+    z = np.zeros(np.shape(M))
+    e = dict(s, f=z, eps=z, epsp=z)
+    v1, v1p = v.copy(), vp.copy()
+    v1[..., 0] = ((M - Mp) * v[..., 0] + 2 * Mp * vp[..., 0]) / (M + Mp)
+    v1p[..., 0] = ((Mp - M) * vp[..., 0] + 2 * M * v[..., 0]) / (M + Mp)
+    return e, {"v1": v1, "w1": np.asarray(s["w"], dtype=float), "v1p": v1p, "w1p": np.asarray(s["wp"], dtype=float)}
+
+
+def _cue_impact_check(s: Scene, r: Any) -> ImpactCheck:
+    """§VII: the compression ends along the cue axis d (the model's premise): the approach is the cue's speed less
+    the speed along d of the ball's point under the tip (v + ω × (a, b, c)). Law (6) here involves the slip on the
+    cloth at the greatest compression, which the result does not carry: the referee weighs it (nan here)."""
+    R, b, c, i, V0p = (np.asarray(s[x], dtype=float) for x in ("R", "b", "c", "i", "V0p"))
+    eps, epsp = np.asarray(s["eps"], dtype=float), np.asarray(s["epsp"], dtype=float)
+    a = -np.sqrt(np.maximum(R * R - b * b - c * c, 0.0))
+    chi, n, p, q = (np.asarray(getattr(r, x), dtype=float) for x in ("chi1", "n1", "p1", "q1"))
+    # (ω × r)·d with ω = (n, p, q), r = (a, b, c), d = (cos i, 0, −sin i)
+    wx_r = (p * c - q * b, q * a - n * c, n * b - p * a)
+    tip = (chi + wx_r[0]) * np.cos(i) - wx_r[2] * np.sin(i)
+    nan = np.full(np.shape(chi), np.nan)
+    return ImpactCheck(V0p + 0.0 * chi, np.asarray(r.V1p, dtype=float) - tip, nan, (eps == 1) & (epsp == 1), nan)
+
+
+def _cue_elastic(s: Scene) -> tuple[Scene, dict[str, np.ndarray]]:
+    """A central horizontal stroke (i = b = c = 0), no friction, ε = ε′ = 0: the cue and the ball exchange
+    momentum as two elastic masses (§I eq. (8) at ε = ε′ = 0); the ball does not turn."""
+    M, Mp, V0p = (np.asarray(s[x], dtype=float) for x in ("M", "Mp", "V0p"))
+    z = np.zeros(np.shape(M))
+    e = dict(s, i=z, b=z, c=z, f=z, eps=z, epsp=z)
+    return e, {"chi1": 2 * Mp * V0p / (M + Mp), "eta1": z, "n1": z, "p1": z, "q1": z,
+               "V1p": (Mp - M) * V0p / (M + Mp)}
+
+
 # ---- the registry --------------------------------------------------------------------------------------------
 def _build() -> dict[str, Model]:
     models = [
@@ -536,7 +736,8 @@ def _build() -> dict[str, Model]:
             momentum=lambda s, r: ((s["M"] * s["V0"] + s["Mp"] * s["V0p"])[..., None],
                                    (s["M"] * r.V1 + s["Mp"] * r.V1p)[..., None],
                                    np.abs(s["M"] * s["V0"]) + np.abs(s["Mp"] * s["V0p"]) + np.abs(s["M"] * r.V1)
-                                   + np.abs(s["Mp"] * r.V1p))),
+                                   + np.abs(s["Mp"] * r.V1p)),
+            impact=_direct_impact_check, elastic=_direct_elastic),
         Model("wall-impact", "§I n°5, eq. (9)", "impact on an immovable mass (cushion, slab)", (
             Param("V0", "m/s", "normal velocity before the impact, towards the mass", 1.0, lo=0.0, lo_open=True),
             Param("eps", "1", "Résal's ε of the ball", None, **_EPS),
@@ -547,7 +748,8 @@ def _build() -> dict[str, Model]:
         ), ("V1",), lambda s: np.asarray(s["V0"]) > 0, "the ball must approach the mass (V0 > 0)",
             sample=lambda rng, n: {"V0": rng.uniform(0.1, 5.0, n), "eps": rng.uniform(0.0, 1.0, n)},
             scale=lambda s: np.abs(np.asarray(s["V0"])),
-            vis_viva=lambda s, r: (np.asarray(s["V0"]) ** 2, r.V1**2)),
+            vis_viva=lambda s, r: (np.asarray(s["V0"]) ** 2, r.V1**2), impact=_wall_impact_check,
+            elastic=lambda s: (dict(s, eps=np.zeros(np.shape(s["V0"]))), {"V1": -np.asarray(s["V0"], dtype=float)})),
         Model("plane-impact", "§III n°8, eqs (4)-(7)", "a free sphere striking a fixed plane with friction", (
             Param("chi0", "m/s", "tangential velocity of the centre before", 1.0),
             Param("zeta0", "m/s", "normal velocity before, negative: approaching", -1.0, hi=0.0, hi_open=True),
@@ -565,12 +767,18 @@ def _build() -> dict[str, Model]:
                  tuned=lambda s, rtol, solver: _plane_ode(s["chi0"], s["zeta0"], s["p0"], R=s["R"], k=s["k"],
                                                           f=s["f"], nu=s["nu"], rtol=rtol, solver=solver),
                  rtol=1e-11, solver="DOP853"),
+            Path(PathCode.REFERENCE, Kind.REFEREE, _plane_reference, always, 1e-9, 2000,
+                 "referee: the six velocity components in the normal impulse (DOP853)", tuned=_plane_reference,
+                 rtol=1e-13, solver="DOP853"),
         ), ("chi1", "zeta1", "p1*R"), lambda s: np.asarray(s["zeta0"]) < 0,
             "the sphere must approach the plane (ζ0 < 0)", sample=_plane_sample,
             scale=lambda s: np.hypot(s["chi0"], s["zeta0"]) + np.abs(s["p0"] * s["R"]), vis_viva=_plane_vis_viva,
             momentum=_about_contact,
             mirror=lambda s: _flip(s, "chi0", "p0"), mirrored=lambda r: {"chi1": -r.chi1, "zeta1": r.zeta1,
-                                                                          "p1": -r.p1}),
+                                                                          "p1": -r.p1},
+            impact=lambda s, r: _normal_yield_check(s, r, np.asarray(s["nu"], dtype=float),
+                                                    np.zeros(np.shape(s["nu"]), dtype=bool)),
+            elastic=_plane_elastic),
         Model("ricochet", "§III n°9", "ricochets on a horizontal plane: impacts and parabolic flights", (
             Param("a0", "m/s", "speed of the centre arriving at the first impact", 2.0, lo=0.0, lo_open=True),
             Param("alpha0", "rad", "its angle below the plane", math.radians(20.0), lo=0.0, hi=math.pi / 2,
@@ -626,11 +834,17 @@ def _build() -> dict[str, Model]:
             Path(PathCode.ODE, Kind.ODE, _cushion("ode"), always, 1e-8, 1000,
                  "eqs (2) integrated in the normal impulse (DOP853)", tuned=_cushion("ode"), rtol=1e-11,
                  solver="DOP853"),
+            Path(PathCode.REFERENCE, Kind.REFEREE, _cushion_reference, always, 1e-9, 2000,
+                 "referee: every velocity component in the normal impulse, the cloth bilateral (DOP853)",
+                 tuned=_cushion_reference, rtol=1e-13, solver="DOP853"),
         ), ("chi1", "zeta1", "p1*R", "n1*R"), lambda s: np.asarray(s["zeta0"]) < 0,
             "the ball must approach the cushion (ζ0 < 0)", sample=_cushion_sample,
             scale=lambda s: np.hypot(s["chi0"], s["zeta0"]) + np.hypot(s["p0"], s["n0"]) * s["R"],
             vis_viva=_cushion_vis_viva, momentum=_about_contact, mirror=lambda s: _flip(s, "chi0", "p0"),
-            mirrored=lambda r: {"chi1": -r.chi1, "zeta1": r.zeta1, "p1": -r.p1, "n1": r.n1}),
+            mirrored=lambda r: {"chi1": -r.chi1, "zeta1": r.zeta1, "p1": -r.p1, "n1": r.n1},
+            impact=lambda s, r: _normal_yield_check(s, r, impact.nu_from_eps(np.asarray(s["eps"], dtype=float)),
+                                                    np.asarray(s["eps"], dtype=float) == 1),
+            elastic=_cushion_elastic),
         _spheres_model(False),
         _spheres_model(True),
         Model("cue-stroke", "§VII n°14, eqs (2)-(12)", "the stroke of an inclined cue, off centre", (
@@ -655,9 +869,13 @@ def _build() -> dict[str, Model]:
             Path(PathCode.ODE, Kind.ODE, _cue_ode, always, 1e-7, 1000,
                  "eqs (3) integrated in the cue impulse (LSODA, regularised friction)", tuned=_cue_ode, rtol=1e-10,
                  solver="LSODA"),
+            Path(PathCode.REFERENCE, Kind.REFEREE, _cue_reference, always, 1e-9, 2000,
+                 "referee: every velocity component in the cue impulse, the cloth by complementarity (DOP853)",
+                 tuned=_cue_reference, rtol=1e-12, solver="DOP853"),
         ), ("chi1", "eta1", "n1*R", "p1*R", "q1*R", "V1p"), _cue_admissible,
             "the contact point must lie on the ball (b² + c² < R²) where the cue can reach it (cos φ > 0)",
             sample=_cue_sample, scale=lambda s: np.asarray(s["V0p"]), vis_viva=_cue_vis_viva, momentum=_cue_momentum,
+            impact=_cue_impact_check, elastic=_cue_elastic,
             mirror=lambda s: _flip(s, "b"),
             mirrored=lambda r: {"chi1": r.chi1, "eta1": -r.eta1, "n1": -r.n1, "p1": r.p1, "q1": -r.q1,
                                 "V1p": r.V1p}),

@@ -12,15 +12,48 @@ proves), and c_y = (1 + k)/M + (1 + k′)/M′, c_z = k/M + k′/M′ on the clo
 is blocked (the direction then turns during the impact, eqs 7–9 of n°13). Under friction the components
 decay as in ``slip.slip_decay`` with α = M c_y, β = M c_z and τ = f ξ/M; the slip may stop.
 
-Normal impulse, from Résal's law (6) of §I with the friction work 2J·w, w the slip at the greatest
-compression (when χ = χ′, ω = (χ0 − χ0′)/(1 + M/M′)): writing λ = |T|/ξ,
-    ω1 S_ε(λ) = 2(χ0 − χ0′) + 2λ|s0| − 2λ w,
-    S_ε(λ) = [1 + λ²(1 + k)](1 + ε) + (M/M′)[1 + λ²(1 + k′)](1 + ε′).
-While the balls slide throughout (λ = f, w = |s0| − f c M ω) this is exactly Résal's eq. (8) (his
-elimination of w between (6) and (7)); when the slip stops during the restitution (λ = |s0|/(c M ω1),
-w = |s0| − f c M ω, or w = 0 if it stopped before the greatest compression), it is a quadratic in ω1.
-That is the ``exact`` path for free balls. On the cloth the slip turns, T is not along s0, and the same
-law is applied with λ = |T|/ξ from the exact tangential solution, iterated to a fixed point.
+Normal impulse, from Résal's law (6) of §I, derived for these bodies. For a rigid body the sum over its
+molecules Σ m U² of the squared lost velocities is M|ΔV|² + (MR²/k)|Δw|² (König), and Σ m U·u of §I eq. (1) is
+the work of the impulses the body receives, estimated with the velocities u at the greatest compression. M
+receives −(ξ x̂ + T) at its contact, M′ receives ξ x̂ + T; on the cloth each ball also receives the cloth's
+vertical impulse at its foot, which does no work at the greatest compression (the foot moves only
+horizontally) but is what keeps the centre from moving vertically. So Σ m U·u over both balls is T·s_c ≥ 0 (the
+normal relative velocity vanishes at the greatest compression; s_c is the slip of M on M′ then, and T on M′ drags
+it along the slip: Résal's −Jω, a loss) and, with
+ΔV = −(ξ, T_y, T_z)/M for M (T_z dropped on the cloth) and Δw = (k/MR)(0, T_z, −T_y),
+
+    Σ m U² = (ξ² + (1 + k) T_y² + k_z T_z²)/M,   k_z = 1 + k for a free ball, k_z = k on the cloth
+
+(the cloth lets the vertical friction impulse turn the ball, never move its centre). Law (6) then reads
+
+    (1 + ε)(ξ² + (1 + k)T_y² + k_z T_z²)/M + (1 + ε′)(ξ² + (1 + k′)T_y² + k′_z T_z²)/M′
+        = 2[ξ ξ_c (1/M + 1/M′) + c_y T_y T_cy + c_z T_z T_cz],                                     (L)
+
+with ξ_c, T_c the impulses at the greatest compression (the identity of §I n°3 with the velocities of the
+greatest compression; at ε = ε′ = 1, ξ = ξ_c solves (L): §I n°2's impact without restitution ends there). In
+ω = ξ/M (ω1 = χ0 − χ1, ω_c = (χ0 − χ0′)/(1 + M/M′)) and the slip lost Y = |s0_y| − |s_y|, Z = |s0_z| − |s_z|
+(T_y = Y/c_y, T_z = Z/c_z: each component of the slip decays without changing sign),
+
+    G(ω) = N ω² − 2Δω + A_y Y² + A_z Z² − 2(Y Y_c + Z Z_c)/(M c·) = 0,   N = (1 + ε) + (M/M′)(1 + ε′),
+    A_y = [(1 + ε)(1 + k) + (M/M′)(1 + ε′)(1 + k′)]/(M c_y)²,  A_z the same with k_z, k′_z and c_z,
+
+Δ = χ0 − χ0′. G(ω_c) = Σ(ε − 1)(…) ≤ 0, and on ω ≥ ω_c every term of G′ is ≥ 0 (Nω − Δ ≥ 0, Y ≥ Y_c,
+A_y ≥ 1/(M c_y)), N ω − Δ > 0: G increases, so (L) has one root beyond the greatest compression. Free balls: the
+slip keeps its direction, T = λ ξ ŝ0, and (L) is ω1 S_ε(λ) = 2Δ + 2λ(|s0| − |s_c|), S_ε(λ) =
+[1 + λ²(1 + k)](1 + ε) + (M/M′)[1 + λ²(1 + k′)](1 + ε′): while the balls slide throughout (λ = f) this is
+exactly Résal's eq. (8) of §V; when the slip stops during the restitution it is a quadratic in ω1 (λ =
+|s0|/(c M ω1)). While the slip keeps its direction and does not stop, T_e/ξ_e = T_c/ξ_c and (L) gives
+ξ = 2ξ_c/(1 + ε) for ε = ε′: the normal velocity is returned in the ratio e = (1 − ε)/(1 + ε) whatever f. On the
+cloth a slip with both components turns, T_e is not along T_c, and the normal ratio differs from e by a term of
+order f². That is the ``exact`` path: the slip decay in closed form (``slip.SlipDecay``) and the root of G by
+Newton's method in a bracket [ω_c, ω_hi], ω_hi = [Δ + √(Δ² + 2N C)]/N, C = |s0_y|²/(M c_y) + |s0_z|²/(M c_z)
+(G ≥ Nω² − 2Δω − 2C). The ``ode`` path solves the same (L) with the slip integrated (DOP853) instead of its
+closed form; the ``reference`` path (``referee.spheres``) integrates every velocity component and evaluates
+law (6) literally on the state, sharing nothing with either.
+
+Earlier versions applied on the cloth the free balls' S_ε(λ) with λ = |T|/ξ and the work 2λ(|s0| − |s_c|):
+the vertical friction impulse counted as moving the centres (1 + k instead of k) and the work of magnitudes
+instead of the projection T·(s0 − s_c); head on at ε = ε′ = 1 the balls were still approaching after the impact.
 
 ``resal``: §V eqs (5) and (8) (sliding assumed throughout) for free balls; §VI eqs (11)–(15) on the cloth
 (first order in f: constant slip direction, ω1 = 2ω/(1 + ε)).
@@ -52,7 +85,8 @@ class SpheresImpact:
     w1p: np.ndarray
     omega1: np.ndarray  # χ0 − χ1
     T: np.ndarray  # tangential impulse on M′ (y, z components)
-    converged: np.ndarray  # the §VI normal-impulse fixed point converged (True where there is none)
+    s_c: np.ndarray  # slip of M on M′ at the greatest compression (y, z), the velocities law (6)'s work is taken at
+    converged: np.ndarray  # the §VI end of impact (Newton, Brent) converged (True where there is none)
     method: str
     path: np.ndarray
     regime: np.ndarray  # SLIDE: slips throughout; GRIP: the slip stops; NO_SLIP: none at first
@@ -103,6 +137,8 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
     cy = (1 + k) / M + (1 + kp) / Mp
     cz = (k / M + kp / Mp) if on_cloth else cy
 
+    coef = _law_coefficients(M, mu, k, kp, eps, epsp, cy, cz, on_cloth)
+
     def S_eps(lam: np.ndarray) -> np.ndarray:
         return _law6_S(lam, k, kp, eps, epsp, mu)
 
@@ -119,13 +155,14 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         # the slip really stops (for free balls the same criterion as the exact path's)
         s1 = s0 - np.stack([cy * T[..., 0], cz * T[..., 1]], axis=-1)
         stops = (np.sum(s1 * s0, axis=-1) < 0) & (s0n > 0)
+        s_c = s0 - (f * M * omega)[..., None] * np.stack([cy * unit[..., 0], cz * unit[..., 1]], axis=-1)
         converged = np.ones(batch, dtype=bool)
         label = ("Résal's §VI eqs (11)-(15), first order in f" if on_cloth
                  else "Résal's §V eqs (5), (8), sliding assumed throughout")
         if stops.any():
             label += f"; premise fails where the slip stops ({int(stops.sum())} of {stops.size} scene(s))"
     elif method == "ode":
-        omega1, s1, converged = _ode_impact(s0, approach, omega, M, cy, cz, f, S_eps, rtol, solver)
+        omega1, s1, s_c, converged = _ode_impact(s0, approach, omega, M, cy, cz, f, coef, rtol, solver)
         xi = M * omega1
         label = ("ODE of the slip in the normal impulse (DOP853), normal impulse from law (6) solved on its dense "
                  "output (Brent)")
@@ -136,6 +173,7 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         final = None  # on the cloth: the slip decay and its last roots, to end the fixed point from a warm start
         if not on_cloth:
             w_c = np.maximum(s0n - f * cy * M * omega, 0.0)
+            s_c = s0 * (w_c / np.where(s0n > 0, s0n, 1.0))[..., None]
             omega1 = (2 * approach + 2 * f * s0n - 2 * f * w_c) / S_eps(f)
             stick = f * cy * M * omega1 > s0n  # the slip stops during the restitution
             # quadratic α ω1² − 2Δ ω1 + β = 0 with λ = |s0|/(c M ω1)
@@ -145,8 +183,7 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
             disc = np.maximum(approach**2 - alpha * beta, 0.0)
             omega1 = np.where(stick, (approach + np.sqrt(disc)) / alpha, omega1)
         else:
-            omega1, converged, final = _cloth_normal_impulse(s0, s0n, approach, omega, M, cy, cz, f,
-                                                             (k, kp, eps, epsp, mu))
+            omega1, converged, s_c, final = _cloth_normal_impulse(s0, approach, omega, M, cy, cz, f, coef)
         xi = M * omega1
         if final is None:
             a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
@@ -155,14 +192,15 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
             a1, b1, _ = dec.at(np.ravel(f * omega1), np.arange(xs.size), xs)
             a1, b1 = a1.reshape(batch), b1.reshape(batch)
         s1 = np.stack([np.sign(s0[..., 0]) * a1, np.sign(s0[..., 1]) * b1], axis=-1)
-        label = ("exact: slip decay in closed form (₂F₁), normal impulse from law (6) at a fixed point"
+        label = ("exact: slip decay in closed form (₂F₁), normal impulse from law (6) by Newton's method"
                  if on_cloth else "exact: closed form, sliding or sticking (law (6) as a quadratic)")
         T = np.stack([(s0[..., 0] - s1[..., 0]) / cy, (s0[..., 1] - s1[..., 1]) / cz], axis=-1)
         stops = (np.hypot(s1[..., 0], s1[..., 1]) <= 1e-12 * np.maximum(s0n, 1e-300)) & (s0n > 0)
     v1, w1, v1p, w1p = _apply(M, Mp, R, Rp, k, kp, v, w, vp, wp, xi, T, on_cloth)
     regime = np.where(s0n == 0, Regime.NO_SLIP, np.where(stops, Regime.GRIP, Regime.SLIDE)).astype(np.int8)
-    return SpheresImpact(v1, w1, v1p, w1p, omega1, T, np.broadcast_to(converged, batch).copy(), method,
-                         codes(batch, PathCode[method.upper()]), regime, label)
+    return SpheresImpact(v1, w1, v1p, w1p, omega1, T, np.broadcast_to(s_c, (*batch, 2)).copy(),
+                         np.broadcast_to(converged, batch).copy(), method, codes(batch, PathCode[method.upper()]),
+                         regime, label)
 
 
 def _law6_S(lam: np.ndarray, k: np.ndarray, kp: np.ndarray, eps: np.ndarray, epsp: np.ndarray,
@@ -171,78 +209,97 @@ def _law6_S(lam: np.ndarray, k: np.ndarray, kp: np.ndarray, eps: np.ndarray, eps
     return (1 + lam**2 * (1 + k)) * (1 + eps) + mu * (1 + lam**2 * (1 + kp)) * (1 + epsp)
 
 
-FIXED_POINT_RTOL = 1e-13  # convergence of the §VI normal-impulse fixed point, relative to ω1
-FIXED_POINT_MAXITER = 200
+def _law_coefficients(M: np.ndarray, mu: np.ndarray, k: np.ndarray, kp: np.ndarray, eps: np.ndarray,
+                      epsp: np.ndarray, cy: np.ndarray, cz: np.ndarray, on_cloth: bool
+                      ) -> tuple[np.ndarray, ...]:
+    """N, A_y, A_z, B_y = 1/(M c_y), B_z = 1/(M c_z) of G(ω), law (L) of the module docstring (§I eq. (6) for
+    these bodies; k_z = k on the cloth, 1 + k free)."""
+    kz, kpz = (k, kp) if on_cloth else (1 + k, 1 + kp)
+    N = (1 + eps) + mu * (1 + epsp)
+    By, Bz = 1 / (M * cy), 1 / (M * cz)
+    Ay = ((1 + eps) * (1 + k) + mu * (1 + epsp) * (1 + kp)) * By * By
+    Az = ((1 + eps) * kz + mu * (1 + epsp) * kpz) * Bz * Bz
+    return N, Ay, Az, By, Bz
 
 
-def _cloth_normal_impulse(s0: np.ndarray, s0n: np.ndarray, approach: np.ndarray, omega: np.ndarray,
-                          M: np.ndarray, cy: np.ndarray, cz: np.ndarray, f: np.ndarray,
-                          law: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray, tuple[SlipDecay, np.ndarray]]:
-    """ω1 of law (6) on the cloth (§VI), where λ = |T|/ξ depends on ω1 through the exact slip decay: the root of
-    h(ω) = G(λ(ω)) − ω, by the secant method from the first two fixed-point iterates, safeguarded by a bracket
-    of the root (bisection where the secant leaves it), until ω moves less than ``FIXED_POINT_RTOL`` of itself
-    or the bracket is that narrow (bounded by ``FIXED_POINT_MAXITER``). Returns ω1, per scene whether it
-    converged, and the slip decay with its last roots (a warm start for the final decay). The slip at the
-    greatest compression does not depend on λ; its root starts the first solve. ``law``: the arguments
-    (k, k′, ε, ε′, M/M′) of ``_law6_S``, on the batch."""
-    shape = s0n.shape
+def law6_G(om: np.ndarray, Y: np.ndarray, Z: np.ndarray, Yc: np.ndarray, Zc: np.ndarray, approach: np.ndarray,
+           coef: tuple[np.ndarray, ...]) -> np.ndarray:
+    """G(ω) of law (L) (module docstring), from the slip lost Y, Z after ω and Y_c, Z_c at the greatest
+    compression; zero at the end of the impact."""
+    N, Ay, Az, By, Bz = coef
+    return N * om * om - 2 * approach * om + Ay * Y * Y + Az * Z * Z - 2 * (By * Y * Yc + Bz * Z * Zc)
+
+
+_ULP = float(np.finfo(float).eps)
+NEWTON_RTOL = 1e-14  # convergence of the §VI end of impact, relative to ω1
+NEWTON_MAXITER = 100
+
+
+def _cloth_normal_impulse(s0: np.ndarray, approach: np.ndarray, omega: np.ndarray, M: np.ndarray, cy: np.ndarray,
+                          cz: np.ndarray, f: np.ndarray, coef: tuple[np.ndarray, ...]
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[SlipDecay, np.ndarray]]:
+    """ω1 on the cloth (§VI): the root of G(ω) (law (L), module docstring) beyond the greatest compression ω_c,
+    with the slip decay in closed form, by Newton's method (G′ from the decay's rates, dY/dω = f M c_y |s_y|/|s|)
+    safeguarded by the bracket [ω_c, ω_hi] (bisection where a step leaves it), until a step is below
+    ``NEWTON_RTOL`` of ω or the bracket is that narrow (bounded by ``NEWTON_MAXITER``). Returns ω1, per scene
+    whether it converged, the slip at the greatest compression (y, z, signed), and the decay with its last roots
+    (a warm start for the final decay)."""
+    shape = approach.shape
+    sy, sz = np.sign(s0[..., 0]).ravel(), np.sign(s0[..., 1]).ravel()
     a0, b0 = np.abs(s0[..., 0]).ravel(), np.abs(s0[..., 1]).ravel()
-    M, cy, cz, f, approach, s0n = (np.ravel(x) for x in (M, cy, cz, f, approach, s0n))
-    law = tuple(np.ravel(x) for x in law)
+    M, cy, cz, f, approach, om_c = (np.ravel(x) for x in (M, cy, cz, f, approach, omega))
+    coef = tuple(np.ravel(x) for x in coef)
+    N, Ay, Az, By, Bz = coef
     dec = SlipDecay(a0, b0, M * cy, M * cz)
     everyone = np.arange(a0.size)
-    a_, b_, _ = dec.at(f * np.ravel(omega), everyone)
-    w_c = np.hypot(a_, b_)
-    xs = dec.xlast.copy()  # the last Newton root per scene: the next solve starts there
+    ac, bc, _ = dec.at(f * om_c, everyone)
+    xs = dec.xlast.copy()  # the last Newton root of the decay per scene: the next solve starts there
+    Yc, Zc = a0 - ac, b0 - bc
+    C = By * a0 * a0 + Bz * b0 * b0
+    lo = om_c.copy()
+    hi = (approach + np.sqrt(approach * approach + 2 * N * C)) / N * (1 + 1e-12)
 
-    def S(lam: np.ndarray, i: np.ndarray | slice) -> np.ndarray:
-        return _law6_S(lam, *(x[i] for x in law))
-
-    # S(λ) = A + Bλ²; a bracket of the root of h = G − ω: h(0+) = G > 0 (λ w_c ≤ λ|s0|), and
-    # G ≤ 2Δ/A + 2λ|s0|/(A + Bλ²) ≤ 2Δ/A + |s0|/√(AB) = hi, so h(hi) ≤ 0
-    A = S(np.zeros_like(f), everyone)
-    B = S(np.ones_like(f), everyone) - A
-    lost = 2 * (s0n - w_c)  # law (6): G = (2Δ + λ·2(|s0| − w))/S(λ)
-
-    def G(lam: np.ndarray, i: np.ndarray) -> np.ndarray:
-        return (2 * approach[i] + lam * lost[i]) / (A[i] + B[i] * lam**2)
-
-    def G_of(om: np.ndarray, i: np.ndarray) -> np.ndarray:
-        """G(λ(ω)) on the scenes ``i``."""
+    def G_and_slope(om: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         a1, b1, xs[i] = dec.at(f[i] * om, i, xs[i])
-        return G(np.hypot((a0[i] - a1) / cy[i], (b0[i] - b1) / cz[i]) / (M[i] * om), i)
+        Y, Z = a0[i] - a1, b0[i] - b1
+        g = law6_G(om, Y, Z, Yc[i], Zc[i], approach[i], tuple(x[i] for x in coef))
+        # G's rounding: a few ulps of the sum of its terms' magnitudes (and of Y, Z, which cancel |s0| − |s|)
+        noise[i] = 8 * _ULP * (N[i] * om * om + 2 * approach[i] * om + Ay[i] * (Y * Y + 2 * a0[i] * Y)
+                                + Az[i] * (Z * Z + 2 * b0[i] * Z) + 2 * (By[i] * (Y + a0[i]) * Yc[i]
+                                                                          + Bz[i] * (Z + b0[i]) * Zc[i]))
+        n = np.hypot(a1, b1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dY = np.where(n > 0, f[i] * M[i] * cy[i] * a1 / n, 0.0)
+            dZ = np.where(n > 0, f[i] * M[i] * cz[i] * b1 / n, 0.0)
+        slope = 2 * (N[i] * om - approach[i] + (Ay[i] * Y - By[i] * Yc[i]) * dY + (Az[i] * Z - Bz[i] * Zc[i]) * dZ)
+        return g, slope
 
-    lo, hi = np.zeros_like(A), (2 * approach / A + s0n / np.sqrt(A * B)) * (1 + 1e-12)
-
-    def bracket(om: np.ndarray, h: np.ndarray, i: np.ndarray) -> None:
-        lo[i] = np.where(h > 0, np.maximum(lo[i], om), lo[i])
-        hi[i] = np.where(h > 0, hi[i], np.minimum(hi[i], om))
-
-    x0 = G(f, everyone)  # λ = f: the first guess
-    x1 = G_of(x0, everyone)
-    bracket(x0, x1 - x0, everyone)
-    prev, hprev = x0, x1 - x0
-    om = np.clip(x1, lo, hi)
-    done = np.abs(hprev) <= FIXED_POINT_RTOL * np.abs(om)
-    for _ in range(FIXED_POINT_MAXITER):
+    g_c = law6_G(om_c, Yc, Zc, Yc, Zc, approach, coef)
+    done = g_c >= 0  # ε = ε′ = 1 (to rounding): the impact ends at the greatest compression
+    om = np.where(done, om_c, np.clip(2 * approach / N, lo, hi))  # start: the frictionless root
+    noise = np.zeros(om.shape)
+    for _ in range(NEWTON_MAXITER):
         live = np.nonzero(~done)[0]
         if live.size == 0:
             break
-        g = G_of(om[live], live)
-        h = g - om[live]
-        bracket(om[live], h, live)
-        denom = h - hprev[live]
+        x = om[live]
+        g, slope = G_and_slope(x, live)
+        lo[live] = np.where(g < 0, np.maximum(lo[live], x), lo[live])
+        hi[live] = np.where(g > 0, np.minimum(hi[live], x), hi[live])
         with np.errstate(divide="ignore", invalid="ignore"):
-            sec = om[live] - h * (om[live] - prev[live]) / denom
-        # the secant step where it stays inside the bracket, else bisection (the secant alone can cycle where
-        # the slip stops and h bends, e.g. a mass ratio of 1e10)
-        inside = np.isfinite(sec) & (sec > lo[live]) & (sec < hi[live]) & (denom != 0)
-        nxt = np.where(inside, sec, 0.5 * (lo[live] + hi[live]))
-        prev[live], hprev[live] = om[live], h
+            nxt = x - g / slope
+        inside = np.isfinite(nxt) & (nxt > lo[live]) & (nxt < hi[live])
+        nxt = np.where(inside, nxt, 0.5 * (lo[live] + hi[live]))
+        nxt = np.where(g == 0, x, nxt)
+        # converged; or G at its own rounding (a slip 10⁵ times the approach speed loses that many digits in
+        # Y = |s0| − |s|, and the steps then wander at 1e-12 of ω): the root is as known as G lets it be
+        quiet = np.abs(g) <= noise[live]
+        nxt = np.where(quiet, x, nxt)
         om[live] = nxt
-        done[live] = ((np.abs(nxt - prev[live]) <= FIXED_POINT_RTOL * np.abs(nxt))
-                      | (hi[live] - lo[live] <= FIXED_POINT_RTOL * hi[live]))
-    return om.reshape(shape), done.reshape(shape), (dec, xs)
+        done[live] = ((np.abs(nxt - x) <= NEWTON_RTOL * np.abs(nxt)) | quiet
+                      | (hi[live] - lo[live] <= NEWTON_RTOL * hi[live]))
+    s_c = np.stack([sy * ac, sz * bc], axis=-1).reshape(*shape, 2)
+    return om.reshape(shape), done.reshape(shape), s_c, (dec, xs)
 
 
 def _slip_ode(y0: np.ndarray, a_: float, b_: float, tau_max: float, rtol: float, solver: str) -> Any:
@@ -271,46 +328,53 @@ def _slip_ode(y0: np.ndarray, a_: float, b_: float, tau_max: float, rtol: float,
     return slip_at
 
 
-def _law6_h(om: float, slip_at: Any, y0: np.ndarray, s0n: float, w_c: float, M: float, cy: float, cz: float,
-            f: float, D: float, A: float, B: float) -> float:
-    """h(ω) = G(λ(ω)) − ω of law (6), λ = |T|/(Mω) from the integrated slip after the impulse f ω."""
+def _law6_ode_G(om: float, slip_at: Any, f: float, a0: float, b0: float, Yc: float, Zc: float, D: float,
+                coef: tuple[float, ...]) -> float:
+    """G(ω) of law (L) with the slip read off the integration (``_ode_impact``)."""
     s = slip_at(f * om)
-    lam = math.hypot((y0[0] - s[0]) / cy, (y0[1] - s[1]) / cz) / (M * om)
-    return (2 * D + 2 * lam * s0n - 2 * lam * w_c) / (A + B * lam * lam) - om
+    return float(law6_G(om, a0 - abs(float(s[0])), b0 - abs(float(s[1])), Yc, Zc, D, coef))
 
 
 def _ode_impact(s0: np.ndarray, approach: np.ndarray, omega: np.ndarray, M: np.ndarray, cy: np.ndarray,
-                cz: np.ndarray, f: np.ndarray, S_eps: Any, rtol: float, solver: str
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The ODE path, scene by scene and independent of the closed forms: the slip integrated in the normal
-    impulse (one integration per scene, to the largest impulse law (6) allows), and law (6) (module docstring)
-    solved for ω1 with the slip read off the integration's dense output, by Brent's method in the bracket
-    (0, 2Δ/A + |s0|/√(AB)] of ``_cloth_normal_impulse``. Returns ω1, the slip after, and per scene whether
-    Brent converged."""
+                cz: np.ndarray, f: np.ndarray, coef: tuple[np.ndarray, ...], rtol: float, solver: str
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The ODE path, scene by scene and independent of the slip's closed form: the slip integrated in the normal
+    impulse (one integration per scene, to ω_hi of ``_cloth_normal_impulse``), and law (L) solved for ω1 in
+    [ω_c, ω_hi] by Brent's method with the slip read off the integration's dense output. Returns ω1, the slip
+    after, the slip at the greatest compression, and per scene whether Brent converged."""
     from scipy.optimize import brentq
 
-    A = np.broadcast_to(np.asarray(S_eps(np.zeros(np.shape(approach))), dtype=float), np.shape(approach))
-    B = np.broadcast_to(np.asarray(S_eps(np.ones(np.shape(approach))), dtype=float), np.shape(approach)) - A
-    omega1 = np.zeros(np.shape(approach))
+    shape = np.shape(approach)
+    coef = tuple(np.broadcast_to(x, shape) for x in coef)
+    omega1 = np.zeros(shape)
     s1 = np.array(s0, dtype=float, copy=True)
-    converged = np.ones(np.shape(approach), dtype=bool)
-    for idx in np.ndindex(np.shape(approach)):
+    s_c = np.array(s0, dtype=float, copy=True)
+    converged = np.ones(shape, dtype=bool)
+    for idx in np.ndindex(shape):
         y0 = np.asarray(s0[idx], dtype=float)
-        s0n = float(np.hypot(*y0))
-        Mi, cyi, czi, fi, Di, Ai, Bi = (float(x[idx]) for x in (M, cy, cz, f, approach, A, B))
-        if s0n == 0 or fi == 0:  # no friction impulse: law (6) with λ = 0
-            omega1[idx] = 2 * Di / Ai
+        Mi, cyi, czi, fi, Di, wc = (float(x[idx]) for x in (M, cy, cz, f, approach, omega))
+        ci = tuple(float(x[idx]) for x in coef)
+        N, _, _, By, Bz = ci
+        a0, b0 = abs(float(y0[0])), abs(float(y0[1]))
+        if (a0 == 0 and b0 == 0) or fi == 0:  # no friction impulse: G = Nω² − 2Δω
+            omega1[idx] = max(2 * Di / N, wc)
             continue
-        hi = (2 * Di / Ai + s0n / math.sqrt(Ai * Bi)) * (1 + 1e-12)
+        hi = (Di + math.sqrt(Di * Di + 2 * N * (By * a0 * a0 + Bz * b0 * b0))) / N * (1 + 1e-12)
         slip_at = _slip_ode(y0, Mi * cyi, Mi * czi, fi * hi, rtol, solver)
-        w_c = float(np.hypot(*slip_at(fi * float(omega[idx]))))
+        sc = slip_at(fi * wc)
+        Yc, Zc = a0 - abs(float(sc[0])), b0 - abs(float(sc[1]))
+        s_c[idx] = sc
 
-        args = (slip_at, y0, s0n, w_c, Mi, cyi, czi, fi, Di, Ai, Bi)
-        om, info = brentq(_law6_h, 1e-12 * hi, hi, args=args, xtol=1e-15 * hi, rtol=1e-13, maxiter=200,
-                          full_output=True)
-        omega1[idx], converged[idx] = om, info.converged
+        args = (slip_at, fi, a0, b0, Yc, Zc, Di, ci)
+        if _law6_ode_G(wc, *args) >= 0:
+            om, ok = wc, True
+        else:
+            om, info = brentq(_law6_ode_G, wc, hi, args=args, xtol=1e-15 * hi, rtol=1e-14, maxiter=200,
+                              full_output=True)
+            ok = info.converged
+        omega1[idx], converged[idx] = om, ok
         s1[idx] = slip_at(fi * om)
-    return omega1, s1, converged
+    return omega1, s1, s_c, converged
 
 
 def newton_euler_rates(M: float, Mp: float, R: float, Rp: float, k: float, kp: float, y: np.ndarray, f: float,

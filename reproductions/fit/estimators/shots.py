@@ -6,9 +6,10 @@ at rest, with cut angle φ: the angle between the cue ball's velocity and the li
 The impact is §VI n°13 of Résal (two equal balls resting on the cloth, ball–ball friction f_bb, vertical
 translation blocked by the cloth, cloth friction neglected during the impact as Coriolis does), solved by
 ``spheres.two_spheres(on_cloth=True)`` with Résal's energy-loss law (6) of §I, ε = ε′ = (1 − e)/(1 + e)
-(``impact.eps_from_newton``). Without friction this gives Newton's normal restitution e exactly; with friction the
-normal impulse follows law (6) with the friction work, and the normal restitution is below e (0.923–0.928 for
-e = 0.93, f_bb = 0.06; ``ShotPrediction.normal_e`` reports it): e is the paper's coefficient, not a measured ratio.
+(``impact.eps_from_newton``). Law (6) gives the normal ratio e exactly wherever the friction keeps one
+direction and the slip does not stop (full ball: the topspin's slip is vertical only); a cut turns the slip on
+the cloth and moves the ratio off e by a term of order f² (0.93 to 0.93004 over cuts of 0–85° for e = 0.93,
+f_bb = 0.06); a slip that stops during the impact (large f_bb) raises it (``ShotPrediction.normal_e`` reports it).
 Then each ball slides on the cloth (§II n°7, ``cloth.slide``) until it
 rolls: the slip keeps its direction, v(t) = v0 − f g û t, u(t) = u0 − (1 + k) f g û t, so the rolling velocity is
 v0 − u0/(1 + k), independent of the cloth's friction and of g (they set only when and where rolling starts). The

@@ -37,7 +37,8 @@ def _rows(key: str, what: str, fit: mk.MarkerFit) -> list[dict[str, Any]]:
     for name, value, ci, ident, bound, lims, note in (
             ("f", fit.f, fit.ci_f, fit.f_identified, fit.at_bound_f, mk.F_BOUNDS, "ball–ball friction"),
             ("e", fit.e, fit.ci_e, fit.e_identified, fit.at_bound_e, mk.E_BOUNDS,
-             "Newton's e of law (6), ε = (1 − e)/(1 + e); with friction the impact's normal ratio is lower")):
+             "Newton's e of law (6), ε = (1 − e)/(1 + e): the impact's normal ratio where the friction keeps one "
+             "direction; a turning slip moves it by order f²")):
         label = f"{name} ({what})"
         if not ident:
             out.append(estimate_row(f"{key}.{name}", label, None, None, (None, None), method=METHOD,

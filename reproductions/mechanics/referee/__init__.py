@@ -1,0 +1,1 @@
+"""Referees: impact models integrated from Newton–Euler's laws, sharing no code with the paths they check."""
