@@ -2,12 +2,13 @@
 
 For each model of ``mechanics.registry``, a seeded batch of random scenes from the model's physical range. Each
 path is timed (minimum over repeats after a warm-up, ``time.perf_counter``) on a large batch (closed forms) or
-a small one (ODE paths), and judged against a reference computed by a *different* method: the ODE path for the
-closed forms and approximations, the exact path for the ODE itself. Errors are the model's own measure
-(``Model.error``: the largest output difference over the scene's speed scale); failures count as NaN and are
-never dropped. Beside each path, its speed as a fraction of a floor measured in the same run: one elementwise
-numpy pass over the batch's inputs and outputs. For §I the two-phase contact is also integrated at a grid of
-tolerances (the work-precision curve of an ODE).
+a small one (ODE paths, referees), and judged against a reference computed by a *different* method: the referee
+(``mechanics.referee``, sharing no code with any path) where the model has one, else the ODE path at a tight
+tolerance, for the closed forms and approximations; the exact path for the ODE and the referee themselves. Errors
+are the model's own measure (``Model.error``: the largest output difference over the scene's speed scale);
+failures count as NaN and are never dropped. Beside each path, its speed as a fraction of a floor measured in the
+same run: one elementwise numpy pass over the batch's inputs and outputs. For §I the two-phase contact is also
+integrated at a grid of tolerances (the work-precision curve of an ODE).
 
 The Pareto verdict: for each model and scene class (the path ``auto`` chose × the regime), whether another path
 that declares itself exact there is both faster and at least as accurate; then ``auto`` would be wrong, and the
@@ -109,7 +110,13 @@ def model_rows(m: paths.Model, n_fast: int, n_ode: int, repeat: int, seed: int =
     the ODE path's work-precision grid over scipy's solvers and tolerances."""
     small = m.scene(m.sample(np.random.default_rng(seed), n_ode))
     big = m.scene(m.sample(np.random.default_rng(seed + 1), n_fast))
-    tight, tight_label = _tight(m, small)
+    # the reference the paths are judged against: the referee where the model has one (it shares no code with
+    # them), else the ODE path at a tight tolerance; the referee and the ODE are judged against the exact path
+    referee = next((p.name for p in m.paths if p.kind is paths.Kind.REFEREE), None)
+    if referee is not None:
+        tight, tight_label = paths.solve(m, small, referee), f"{referee} (the referee, shares no code)"
+    else:
+        tight, tight_label = _tight(m, small)
     refs = {"ode": tight, "exact": None}
     exact_name = next(p.name for p in m.paths if p.code is paths.PathCode.EXACT)
     refs["exact"] = paths.solve(m, small, exact_name)
@@ -121,7 +128,7 @@ def model_rows(m: paths.Model, n_fast: int, n_ode: int, repeat: int, seed: int =
         p = m.path(name) if name != "auto" else None
         keep = np.ones(n_ode, bool) if p is None else np.asarray(p.handles(small), dtype=bool)
         sub = _take(m, small, keep)
-        ref_name = exact_name if name == "ode" else "ode"
+        ref_name = exact_name if name in ("ode", referee) else "ode"
         ref = refs[ref_name]
         ref_sub = (_take_res(ref, keep) if not keep.all() else ref)
         res = paths.solve(m, sub, name)
@@ -146,7 +153,8 @@ def model_rows(m: paths.Model, n_fast: int, n_ode: int, repeat: int, seed: int =
                  if one is not None else np.nan)
         rows.append({
             "path": name, "kind": "auto" if p is None else p.kind.value, "cost": None if p is None else p.cost,
-            "declared_accuracy": None if p is None else p.accuracy, "reference": ref_name,
+            "declared_accuracy": None if p is None else p.accuracy,
+            "reference": (referee or "ode") if ref_name == "ode" else ref_name,
             "reference_method": tight_label if ref_name == "ode" else f"{exact_name} path",
             "scenes_timed": count, "seconds_per_scene": t / max(count, 1), "scenes_per_second": count / t,
             "predicate_seconds_per_scene": t_pred / max(count, 1), "n1_seconds": t_one,
