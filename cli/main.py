@@ -185,7 +185,7 @@ def _render_summary(summaries: list[dict[str, Any]], folders: list[Path]) -> Non
     """Several experiments: one line each (its verdict counts), the totals, the reasons of the differing rows and
     where the folders are. Each experiment's line stays under 80 columns, unfolded, so that it stays greppable."""
     from reproductions.config import MEASUREMENT_VERDICTS
-    from reproductions.report import VERDICTS, measurement_counts, verdict_counts
+    from reproductions.report import VERDICTS, beyond_counts, measurement_counts, verdict_counts, whose_error
 
     width = max([5, *(len(s["experiment"]) for s in summaries)])
 
@@ -211,12 +211,17 @@ def _render_summary(summaries: list[dict[str, Any]], folders: list[Path]) -> Non
         out_console.print(Text(f"{s['experiment']:<{width}} ") + counts_text(s["rows"]), soft_wrap=True,
                           highlight=False)
     rows = [r for s in summaries for r in s["rows"]]
-    _, why = verdict_counts(rows)
+    paper_counts, why = verdict_counts(rows)
     if printed:
         out_console.print(Text(f"{'total':<{width}} ", style="bold") + counts_text(rows)
-                          + Text(f" ({len(rows)} rows)"), soft_wrap=True, highlight=False)
-    if why:
-        _print_items("differing rows by reason:", [f"{k} {n}" for k, n in why.items()])
+                          + Text(f" ({sum(paper_counts.values())} claims)"), soft_wrap=True, highlight=False)
+    if why:  # whose error: Résal's own, a premise, rounded digits, the digitised text's (issue 35)
+        _print_items(f"the {paper_counts['differs']} that differ, by whose error:",
+                     [f"{n} {label} ({codes})" for label, n, codes in whose_error(why)])
+    beyond = beyond_counts(rows)
+    if sum(beyond.values()):  # graded beyond the domain where the paper applies its claims: not the paper's claims
+        _print_items(f"beyond the paper's domain, counted apart ({sum(beyond.values())} rows):",
+                     [f"{beyond[v]} {v}" for v in VERDICTS if beyond[v]])
     if measured:  # counted apart: a measurement against the mechanics is not a printed claim
         n = sum(len(s["measurements"]) for s in measured)
         out_console.print(Text(f"today's measurements against the paper's mechanics ({n} rows, 95 %):"),

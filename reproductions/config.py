@@ -25,8 +25,28 @@ import yaml
 
 from .errors import InputError
 
-__all__ = ["MAX_DEPTH", "MAX_LINE", "MAX_NODES", "MAX_YAML_BYTES", "Experiment", "Kind", "Node", "Printed", "Source",
-           "decode_text", "load_experiment", "parse_number", "read_input", "shorten"]
+__all__ = [
+    "BEYOND_QUANTITY",
+    "BEYOND_SUFFIX",
+    "MAX_DEPTH",
+    "MAX_LINE",
+    "MAX_NODES",
+    "MAX_YAML_BYTES",
+    "REASONS",
+    "REASON_GROUPS",
+    "REASON_GROUP_LABELS",
+    "Experiment",
+    "Kind",
+    "Node",
+    "Printed",
+    "Source",
+    "decode_text",
+    "load_experiment",
+    "parse_number",
+    "read_input",
+    "reason_group",
+    "shorten",
+]
 
 # Limits on what a reader takes in, checked before any parsing (configs/README.md, "File limits"): the largest
 # experiment file is 25 kB, its longest line 237 characters, its deepest nesting 6 levels.
@@ -209,7 +229,9 @@ class Node:
             raise self.fail(f"'{self._name(key)}' must be {expected}", n)
         return n
 
-    def string(self, key: str, default: str | None = None, choices: tuple[str, ...] | None = None) -> str:
+    def string(self, key: str, default: str | None = None, choices: tuple[str, ...] | None = None,
+               empty: bool = False) -> str:
+        """A text (non-empty unless ``empty``), or one of ``choices``."""
         if default is not None and not self.has(key):
             return default
         expected = "a text" if choices is None else "one of " + ", ".join(choices)
@@ -217,7 +239,7 @@ class Node:
         value = n.value
         if choices is not None and value not in choices:
             raise self.fail(f"'{self._name(key)}' must be {expected}, got '{shorten(value)}'", n)
-        if not value.strip():
+        if not value.strip() and not empty:
             raise self.fail(f"'{self._name(key)}' must be a non-empty text", n)
         return value
 
@@ -355,7 +377,34 @@ REASONS = {
     "erratum": "a slip of the 1883 original (the row's note gives the corrected value, derived)",
     "assumption": "an assumption of the paper's that its own premises or the exact mechanics do not support",
     "repair": "the printed formula is wrong as it stands; a second row grades the repaired form",
+    "beyond": "the claim fails beyond the domain where the paper applies it (a row `<id>_beyond`); the in-domain row "
+              "`<id>` stands beside it",
 }
+
+# whose error a differing row shows (issue 35): the groups every total is split into, in this order. A reader must
+# not read "N differ" as "Résal was wrong N times": the digitised text's slips are not the paper's, the digits it
+# rounds are no error, and what fails beyond the paper's domain is counted apart from the paper's claims.
+REASON_GROUPS = {
+    "paper": ("erratum", "repair"),  # Résal's own slips and formulas that cannot be right as printed
+    "premise": ("assumption",),  # premises that fail where the paper applies them
+    "rounding": ("rounding",),  # printed digits that round or truncate the value the premises give
+    "digitised": ("ocr",),  # slips of the digitised text, not of the 1883 original
+    "beyond": ("beyond",),  # beyond the paper's domain: counted apart from the paper's totals
+}
+REASON_GROUP_LABELS = {
+    "paper": "Résal's errata and formulas that cannot be right",
+    "premise": "premises that fail where the paper applies them",
+    "rounding": "printed digits rounded or truncated",
+    "digitised": "slips of the digitised text, not of 1883",
+    "beyond": "beyond the paper's domain",
+}
+BEYOND_SUFFIX = "_beyond"  # the id of a row grading a claim beyond the paper's domain
+BEYOND_QUANTITY = "beyond the paper's domain"  # how its quantity starts
+
+
+def reason_group(reason: str | None) -> str | None:
+    """The group of ``REASON_GROUPS`` a reason code belongs to (None for a row without reason)."""
+    return next((g for g, codes in REASON_GROUPS.items() if reason in codes), None)
 
 
 # the verdict of a measured value against what the paper's mechanics predict (never a printed claim's verdict:
@@ -479,7 +528,7 @@ def _printed(node: Node, quantities: tuple[str, ...]) -> Printed:
     pid, computed = _id_computed(node, quantities, "quantity")
     quantity = node.string("quantity")
     source = node.string("source")
-    text = node.string("text")
+    text = node.string("text", empty=True)  # "": the paper prints nothing for it (an implicit premise, our repair)
     if node.has("value") and _construct(node._mapping()["value"], node.file, f"{node.path}.value") is not None:
         value, exact, raw, _ = node.number_node("value", "a number or a fraction such as 4/15")
         try:
@@ -501,6 +550,15 @@ def _printed(node: Node, quantities: tuple[str, ...]) -> Printed:
         "line") else None
     reason = node.string("reason", choices=tuple(REASONS)) if node.has("reason") else None
     today = node.string("today") if node.has("today") else None
+    beyond_id, beyond_quantity = pid.endswith(BEYOND_SUFFIX), quantity.startswith(BEYOND_QUANTITY)
+    if beyond_id != beyond_quantity:
+        raise node.fail(f"'{node.path}': a row grading a claim beyond the paper's domain has an id ending in "
+                        f"'{BEYOND_SUFFIX}' and a quantity starting « {BEYOND_QUANTITY} », both or neither (id "
+                        f"'{pid}')")
+    if reason is not None and (reason == "beyond") != beyond_id:
+        raise node.fail(f"'{node.path}.reason' {reason}: the reason 'beyond' is the reason of a row beyond the "
+                        f"paper's domain (id ending in '{BEYOND_SUFFIX}'), and such a row has no other",
+                        node._mapping()["reason"])
     node.done()
     return Printed(pid, computed, quantity, source, value, text, tol, rule, node.where(), formula, line, reason,
                    today)
@@ -611,6 +669,10 @@ def load_experiment(path: str | Path, kinds: Mapping[str, Any]) -> Experiment:
     measured = tuple(_measured(n, quantities) for n in root.children("measured")) if root.has("measured") else ()
     printed = (tuple(_printed(n, quantities) for n in root.children("printed"))
                if root.has("printed") or not measured else ())  # an experiment of measurements alone may print none
+    for x in printed:
+        if x.today is not None and x.today not in modern:
+            raise InputError(x.where, f"'today' names '{x.today}', which is not in this file's 'modern' list "
+                                      f"({', '.join(modern) or 'empty'}): expected one of its symbols")
     seen: set[str] = set()
     for x in (*printed, *measured):
         if x.id in seen:

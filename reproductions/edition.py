@@ -21,6 +21,7 @@ from .report import (
     _atomic_write,
     _fmt,
     _summaries,
+    beyond_counts,
     computed_text,
     difference_text,
     index_md,
@@ -31,9 +32,11 @@ from .report import (
     paper_table_md,
     paper_table_tex,
     parse_source,
+    printed_text,
     today_value,
     tolerance_text,
     verdict_counts,
+    whose_error,
 )
 
 __all__ = ["build", "function_of", "index_html", "plain", "readable", "rich_html", "write_index"]
@@ -245,7 +248,7 @@ def _row(name: str, s: dict[str, Any], r: dict[str, Any], computed_key: str) -> 
     return RowEntry(
         experiment=s["experiment"], id=r["id"], anchor=f"{s['experiment']}--{r['id']}",
         section=f"{section} n°{n}" if n else section, equation=eq, paper_line=r.get("line"),
-        quantity=readable(r["quantity"]), printed=readable(r["printed_text"]), printed_value=_fmt(r["printed"]),
+        quantity=readable(r["quantity"]), printed=readable(printed_text(r)), printed_value=_fmt(r["printed"]),
         computed=computed_text(r), difference=difference_text(r), tolerance=tolerance_text(r),
         tolerance_rule=r.get("tolerance_rule") or "", verdict=r["verdict"], reason=reason,
         reason_label=REASONS.get(reason, ""), note=readable(r["note"]),
@@ -316,6 +319,7 @@ def build(summaries: Iterable[tuple[str, dict[str, Any]]]) -> Edition:
         subtitle=("H. Résal, “Commentaire à la théorie mathématique du jeu de billard”, J. Math. Pures Appl. "
                   "(3) 9 (1883), 65–98: every printed value and claim, recomputed from the paper's own premises"),
         counts=counts, reasons=reasons, findings=tuple(findings), sections=tuple(sections),
+        beyond_counts=beyond_counts(all_rows), whose_error=tuple(whose_error(reasons)),
         measured_sections=tuple(measured_sections), measurement_counts=measurement_counts(s for _, s in summaries),
         provenance=f"resal {prov.get('version', __version__)}" + (f", commit {commit[:12]}" if commit else "")
         + (" (uncommitted changes)" if prov.get("dirty") else ""))
@@ -575,7 +579,12 @@ def index_html(ed: Edition) -> str:
            '<meta name="viewport" content="width=device-width, initial-scale=1">\n',
            f"<title>{_h(ed.title)}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n",
            f"<header><h1>{_h(ed.title)}</h1><p class=\"sub\">{_h(ed.subtitle)}.</p>",
-           f'<p class="counts">{total} printed values and claims: {_counts_html(ed.counts)}'
+           f'<p class="counts">{total} printed values and claims, graded where the paper applies them: '
+           f"{_counts_html(ed.counts)}"
+           + (" (of the claims that differ: " + "; ".join(f"{n} {_h(label)}" for label, n, _ in ed.whose_error)
+              + ")" if ed.whose_error else "")
+           + (f"; {sum(ed.beyond_counts.values())} more rows beyond the paper's domain, counted apart: "
+              f"{_counts_html(ed.beyond_counts)}" if sum(ed.beyond_counts.values()) else "")
            + (f'; and, <a href="#measured">apart</a>, {sum(ed.measurement_counts.values())} of today\'s '
               f"measurements against the paper's mechanics: "
               f"{_counts_html(ed.measurement_counts, MEASUREMENT_VERDICTS)}" if ed.measured_sections else "")

@@ -111,3 +111,5 @@ class Edition:
     # the 1883 theory against today's measurements: experiments of published measurements, apart from the paper's
     measured_sections: tuple[SectionEntry, ...] = field(default=())
     measurement_counts: dict[str, int] = field(default_factory=dict)  # verdict → measured rows, all experiments
+    beyond_counts: dict[str, int] = field(default_factory=dict)  # verdict → rows beyond the paper's domain (apart)
+    whose_error: tuple[tuple[str, int, str], ...] = ()  # (label, rows, reason codes): report.whose_error

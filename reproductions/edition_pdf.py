@@ -536,19 +536,17 @@ class _Flow:
                                          "mechanics: ", _Fmt()),
                                         *_count_pieces(ed.measurement_counts, colours=MEASURE_COLOURS)],
                                        _Fmt(), 11.0, LEFT, TEXT_WIDTH, "counts", "")
-        if ed.reasons:
-            labels = {}
-            for section in ed.sections:
-                for row in section.rows:
-                    if row.reason and row.reason_label:
-                        labels.setdefault(row.reason, row.reason_label)
-            head = self.para("Why the claims that differ differ:", _S.body, "body", "", _Fmt("bold"))
+        if sum(ed.beyond_counts.values()):  # counted apart: they grade no claim where the paper applies it
+            items += self.ts.paragraph([(f"Apart from them, {sum(ed.beyond_counts.values())} rows beyond the paper's "
+                                         "domain: ", _Fmt()), *_count_pieces(ed.beyond_counts)],
+                                       _Fmt(), 11.0, LEFT, TEXT_WIDTH, "counts", "")
+        if ed.whose_error:
+            head = self.para("Whose error the claims that differ show:", _S.body, "body", "", _Fmt("bold"))
             head[0].space_before = 6
             head[-1].keep_with_next = True
             items += head
-            for reason, n in ed.reasons.items():
-                text = f"{n} row{'s' if n != 1 else ''}" + (f": {labels[reason]}" if reason in labels else "")
-                items += self.labelled(reason, [(text, _Fmt())], "")
+            for label, n, codes in ed.whose_error:
+                items += self.labelled(f"{n} row{'s' if n != 1 else ''}", [(f"{label} ({codes})", _Fmt())], "")
         if ed.provenance:
             prov = self.para(ed.provenance, _S.caption, "provenance", "", _Fmt("regular", GREY))
             prov[0].space_before = 6

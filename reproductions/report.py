@@ -31,14 +31,17 @@ from pathlib import Path
 from typing import Any, BinaryIO
 
 from . import __version__, digest
-from .config import MEASUREMENT_VERDICTS, REASONS
+from .config import MEASUREMENT_VERDICTS, REASON_GROUP_LABELS, REASON_GROUPS, REASONS
 from .errors import InputError
 from .results import FigureSpec, Reproduction
 
 __all__ = [
+    "beyond_counts",
+    "beyond_text",
     "clean_stale",
     "code_provenance",
     "index_md",
+    "is_beyond",
     "make_staging",
     "paper_rows",
     "parse_source",
@@ -48,6 +51,8 @@ __all__ = [
     "summary",
     "today_value",
     "verdict_counts",
+    "whose_error",
+    "whose_error_text",
     "write_folder",
     "write_reproduction",
 ]
@@ -139,10 +144,19 @@ def _rel(v: float | None) -> str:
     return "—" if v is None else f"{v:+.2%}"
 
 
+# what a row without a printed text shows people (its `text` is "": the paper prints nothing for it)
+NOT_PRINTED = "— (not printed: an implicit premise, or a form derived here)"
+
+
+def printed_text(r: dict[str, Any]) -> str:
+    """A row's printed text for people: the paper's own writing, or ``NOT_PRINTED``."""
+    return r["printed_text"] or NOT_PRINTED
+
+
 def row_cells(r: dict[str, Any]) -> list[str]:
     """A row's cells for people (HEADERS): a formula's computed number named a discrepancy, the difference relative,
     or absolute where the paper prints zero (``computed_text``, ``difference_text``)."""
-    return [r["quantity"], r["source"], _fmt(r.get("line")), f"{r['printed_text']}", computed_text(r),
+    return [r["quantity"], r["source"], _fmt(r.get("line")), printed_text(r), computed_text(r),
             difference_text(r), r["verdict"], r.get("reason") or "", r["note"]]
 
 
@@ -810,7 +824,7 @@ def tolerance_text(r: dict[str, Any]) -> str:
 def _paper_cells(x: dict[str, Any]) -> list[str]:
     r = x["row"]
     return [x["experiment"], x["section"], x["n"], x["equation"], _fmt(r.get("line"), 9), r["id"], r["quantity"],
-            r["printed_text"], computed_text(r), difference_text(r), tolerance_text(r), r["verdict"],
+            printed_text(r), computed_text(r), difference_text(r), tolerance_text(r), r["verdict"],
             r.get("reason") or "", r["note"], x["today"]]
 
 
@@ -852,16 +866,62 @@ def paper_table_tex(rows: list[dict[str, Any]]) -> str:
     return "\n".join(tex)
 
 
+def is_beyond(r: dict[str, Any]) -> bool:
+    """A row grading a claim beyond the paper's domain (``Row.domain``): counted apart from the paper's claims."""
+    return r.get("domain") == "beyond"
+
+
 def verdict_counts(rows: Iterable[dict[str, Any]]) -> tuple[dict[str, int], dict[str, int]]:
-    """Rows per verdict, and the differing rows per reason code (``none given`` for a differing row without one)."""
+    """The paper's claims (rows beyond its domain left out: ``beyond_counts``) per verdict, and those that differ per
+    reason code (``none given`` for a differing row without one)."""
     verdicts = dict.fromkeys(VERDICTS, 0)
     reasons = dict.fromkeys(REASONS, 0)
     for r in rows:
+        if is_beyond(r):
+            continue
         verdicts[r["verdict"]] = verdicts.get(r["verdict"], 0) + 1
         if r["verdict"] == "differs":
             code = r.get("reason") or "none given"
             reasons[code] = reasons.get(code, 0) + 1
     return verdicts, {k: v for k, v in reasons.items() if v}
+
+
+def beyond_counts(rows: Iterable[dict[str, Any]]) -> dict[str, int]:
+    """The rows beyond the paper's domain per verdict (they grade no claim where the paper applies it)."""
+    verdicts = dict.fromkeys(VERDICTS, 0)
+    for r in rows:
+        if is_beyond(r):
+            verdicts[r["verdict"]] += 1
+    return verdicts
+
+
+def whose_error(reasons: dict[str, int]) -> list[tuple[str, int, str]]:
+    """The differing claims by whose error they show (``config.REASON_GROUPS``, in order; the group ``beyond`` is
+    not among the paper's claims): (label, rows, the reason codes with their counts)."""
+    out = []
+    for group, codes in REASON_GROUPS.items():
+        n = sum(reasons.get(c, 0) for c in codes)
+        if n and group != "beyond":
+            out.append((REASON_GROUP_LABELS[group], n, ", ".join(f"{c} {reasons[c]}" for c in codes if reasons.get(c))))
+    if reasons.get("none given"):
+        out.append(("no reason given yet", reasons["none given"], f"none given {reasons['none given']}"))
+    return out
+
+
+def whose_error_text(reasons: dict[str, int]) -> str:
+    """One sentence: the differing claims by whose error they show, e.g. "20 Résal's errata … (erratum 12, repair 8);
+    20 slips of the digitised text, not of 1883 (ocr 20)"."""
+    return "; ".join(f"{n} {label} ({codes})" for label, n, codes in whose_error(reasons))
+
+
+def beyond_text(rows: Iterable[dict[str, Any]]) -> str:
+    """The rows beyond the paper's domain, in a phrase ("" when there are none)."""
+    b = beyond_counts(rows)
+    n = sum(b.values())
+    if not n:
+        return ""
+    return (f"{n} more row{'s' if n != 1 else ''} beyond the paper's domain, counted apart: "
+            + ", ".join(f"{b[v]} {v}" for v in VERDICTS if b[v]))
 
 
 def measurement_counts(summaries: Iterable[dict[str, Any]]) -> dict[str, int]:
@@ -891,18 +951,26 @@ def index_md(summaries: list[tuple[str, dict[str, Any]]]) -> str:
            "([csv](paper-table.csv), [tex](paper-table.tex)) lists every printed value in the paper's order, and "
            "[report.pdf](report.pdf) gathers this index, that table and every figure.\n",
            "## Verdicts\n",
-           f"{len(all_rows)} printed values and claims in {len(summaries)} experiments: "
+           f"{sum(verdicts.values())} printed values and claims of the paper, graded where the paper applies them, in "
+           f"{sum(1 for _, s in summaries if s['rows'])} experiments: "
            f"**{verdicts['reproduced']} reproduced**, **{verdicts['differs']} differ**, "
-           f"**{verdicts['not-checkable']} not checkable**.\n",
+           f"**{verdicts['not-checkable']} not checkable**."
+           + (f" And {beyond_text(all_rows)}.\n" if beyond_text(all_rows) else "\n"),
            _md_table(("verdict", "rows"), ([v, str(verdicts[v])] for v in VERDICTS))]
     if reasons:
-        out += ["\nWhy the differing rows differ:\n",
-                _md_table(("reason", "rows", "meaning"),
-                          ([k, str(n), REASONS.get(k, "the row names no reason yet")] for k, n in reasons.items()))]
+        out += ["\nWhose error the differing claims show (a slip of the digitised text is not Résal's; rounded digits "
+                "are no error):\n",
+                _md_table(("whose error", "rows", "reasons"), ([label, str(n), codes]
+                                                              for label, n, codes in whose_error(reasons))),
+                "\n" + _md_table(("reason", "rows", "meaning"),
+                                 ([k, str(n), REASONS.get(k, "the row names no reason yet")]
+                                  for k, n in reasons.items()))]
     out += ["\n## Experiments\n",
-            _md_table(("experiment", "section", "title", "reproduced", "differs", "not checkable"), (
+            _md_table(("experiment", "section", "title", "reproduced", "differs", "not checkable",
+                       "beyond the domain"), (
                 [f"[{s['experiment']}]({name}/table.md)", s["source"]["section"], s["title"],
-                 *(str(verdict_counts(s["rows"])[0][v]) for v in VERDICTS)] for name, s in summaries))]
+                 *(str(verdict_counts(s["rows"])[0][v]) for v in VERDICTS),
+                 str(sum(beyond_counts(s["rows"]).values()))] for name, s in summaries if s["rows"]))]
     measured = [(name, s) for name, s in summaries if s.get("measurements")]
     if measured:
         mc = measurement_counts(s for _, s in measured)
@@ -915,7 +983,7 @@ def index_md(summaries: list[tuple[str, dict[str, Any]]]) -> str:
                      *(str(measurement_counts([s])[v]) for v in MEASUREMENT_VERDICTS)] for name, s in measured))]
     for name, s in summaries:
         v, why = verdict_counts(s["rows"])
-        counts = _counts_text(v, why)
+        counts = _counts_text(v, why) + (f"; {beyond_text(s['rows'])}" if beyond_text(s["rows"]) else "")
         if s.get("measurements"):
             mc = measurement_counts([s])
             counts = (f"{counts}; measurements: " if s["rows"] else "measurements: ") + ", ".join(

@@ -22,7 +22,8 @@ if TYPE_CHECKING:  # annotations only: importing the estimators imports scipy.op
     from .fit.estimators.lsq import Estimate, Family, FitResult
 
 __all__ = [
-    "Computed", "FigureSpec", "FitRow", "Layer", "Reproduction", "Row", "TableSpec", "family_report", "fit_rows",
+    "DOMAINS", "Computed", "FigureSpec", "FitRow", "Layer", "Reproduction", "Row", "TableSpec", "family_report",
+    "fit_rows",
     "identifiability_report", "layer", "modern_table",
 ]
 
@@ -47,6 +48,13 @@ class Computed:
     value: float | None
     how: str = ""
     diagnose: Callable[[float], str] | None = None
+    # a "never"/"always" claim measured by its violations (0 when it holds): the worst signed margin by which it held
+    # (> 0) or failed (< 0), in the claim's own units, so that a check that could fail shows how near it came
+    margin: float | None = None
+
+
+# where a row grades its claim: where the paper applies it, or beyond (a row `<id>_beyond`, counted apart)
+DOMAINS = ("paper", "beyond")
 
 
 @dataclass(frozen=True)
@@ -67,6 +75,8 @@ class Row:
     today: str | None = None  # a modern symbol standing beside it
     config_line: int | None = None  # the line of the config file where the printed entry starts
     computes: str | None = None  # the kind's quantity the row is compared with (the config's `computed:`)
+    margin: float | None = None  # a never/always claim's worst signed margin (``Computed.margin``)
+    domain: str = "paper"  # a code of DOMAINS: where the paper applies the claim, or beyond it (counted apart)
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,8 @@ def test_pendulum_reproduces_the_paper_reading_and_flags_the_swap():
     assert rows["combination"].computed == pytest.approx(24 / 5, rel=1e-12)
     assert rows["epsp_fraction"].verdict == "reproduced"
     assert rows["epsp_decimal"].verdict == "reproduced"
-    assert rows["n_equations"].computed == 1.0
+    one = rows["n_equations"]  # « un résultat unique »: both eqs (8) give the same D, a single equation
+    assert one.verdict == "reproduced" and one.computed < 1e-12
     assert rows["eps_premise"].computed == pytest.approx(0.8, rel=1e-12)
     assert rows["swapped_vii"].verdict == "differs"
     assert rows["swapped_vii"].computed == pytest.approx(6 / (1 + 4 / 15 + 3), rel=1e-12)
@@ -126,7 +127,18 @@ def test_user_csv_with_two_mass_ratios_separates_eps_and_epsp(tmp_path):
     fits = {f.parameter: f for f in rep.fits}
     assert fits["ε (cue)"].identifiable and fits["ε (cue)"].value == pytest.approx(0.1, abs=1e-6)
     assert fits["ε′ (ball)"].identifiable and fits["ε′ (ball)"].value == pytest.approx(0.25, abs=1e-6)
-    assert {r.id: r for r in rep.rows}["n_equations"].computed == 2.0
+    assert rep.identifiability[0]["rank"] == 2
+
+
+def test_one_result_is_graded_by_the_two_equations_and_fails_on_ratios_that_do_not_keep_momentum(tmp_path):
+    """« on obtient un résultat unique »: a measure that could fail. Ratios that do not keep momentum make the two
+    eqs (8) give two values of D (no pair (ε, ε′) fits both), and the row differs."""
+    text = (api.config_dir() / "coriolis-pendulum.yaml").read_text()
+    text = text.replace("V1p_over_V0: 5/4 ", "V1p_over_V0: 1.3 ")
+    (tmp_path / "off.yaml").write_text(text)
+    r = {x.id: x for x in api.run(api.load(str(tmp_path / "off.yaml"))).rows}["n_equations"]
+    assert r.verdict == "differs"
+    assert r.computed == pytest.approx(abs(2 / (5 / 12) - 2 * 3 / 1.3) / (2 * 3 / 1.3), rel=1e-12)
 
 
 def test_every_kind_declares_its_cost_for_the_pool():

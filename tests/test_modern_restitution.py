@@ -62,18 +62,51 @@ def test_mean_over_shots():
 def test_the_rows(rep):
     rows = {m.id: m for m in rep.measurements}
     expected = {"eps_cushion_low": "inconsistent", "eps_cushion_all": "inconsistent", "eps_constant": "inconsistent",
-                "eps_ball_ball": "consistent", "contact_time": "not-checkable", "separation_mean": "inconsistent",
+                "eps_ball_ball": "consistent", "contact_time": "not-checkable", "separation_mean": "not-checkable",
                 "transverse_momentum": "not-checkable"}
     assert {k: rows[k].verdict for k in expected} == expected
     assert rows["eps_cushion_low"].measured == pytest.approx(0.0776, abs=5e-5)
     assert rows["eps_cushion_low"].predicted == pytest.approx(0.29, abs=5e-3)
+    # no error is published: every uncertainty is a rounding bound, and the verdicts say so
+    for k in ("eps_cushion_low", "eps_cushion_all", "eps_constant", "eps_ball_ball", "contact_time",
+              "separation_mean"):
+        assert "a rounding bound" in rows[k].uncertainty and "not a measurement error" in rows[k].uncertainty, k
+    for k in ("eps_cushion_low", "eps_cushion_all", "eps_constant", "eps_ball_ball"):
+        assert "rounding bound" in rows[k].note, k
+    assert "0.040" in rows["eps_constant"].note  # the regressions' error that would make them agree
+    assert rows["contact_time"].note.startswith("a definition: ")
+    assert rows["transverse_momentum"].note.startswith("a definition: ")
+    # the separation angle: a prediction for each spread of shots, no verdict on one choice
     sep = rows["separation_mean"]
-    assert sep.interval[1] == pytest.approx(79.19, abs=0.01)  # smooth balls: friction only closes the angle
-    assert sep.interval[1] < sep.measured
-    assert "conditional" in sep.note
-    assert "e = 0.963" in sep.note
+    assert sep.note.startswith("a modelling choice: ")
+    assert sep.predicted is None and sep.interval is None
+    for number in ("79.19°, 77.10°, 76.44°", "82.54°, 80.11°, 79.32°", "85.28°, 82.99°, 82.26°", "e = 0.963",
+                   "inside their range"):
+        assert number in sep.note, number
+    table = {t.name: t for t in rep.tables}["separation-by-spread"]
+    assert table.headers == ("spread of shots", "smooth", "f = 0.06", "f = 0.08")
+    assert [r[1] for r in table.rows] == pytest.approx([79.19, 82.54, 85.28], abs=0.01)
     assert {f.name for f in rep.figures} == {"separation-angle", "cushion-eps"}
     assert all(f.reading for f in rep.figures)
+
+
+def test_spread_means_against_a_midpoint_rule():
+    """⟨θ⟩ over a spread: ψ uniform on [10°, 70°] and u = sin ψ uniform on [0, 1), against plain midpoint rules."""
+    exp = api.load("modern-restitution")
+    p = exp.params
+    R, M = p.get("ball_diameter").value / 2, p.get("ball_mass").value
+    n = 20_000
+    for spread, lo, hi in (("cut_angle", 10.0, 70.0), ("impact_parameter", 0.0, 90.0)):
+        sp = restitution.Spread(spread, lo, hi)
+        psi, w = restitution.spread_nodes(sp, p.nodes)
+        assert float(np.sum(w)) == pytest.approx(1.0, abs=1e-12)
+        got = float(restitution.theta_spheres(psi, 0.897, 0.06, R, M, p.k) @ w)
+        if spread == "cut_angle":
+            mid = np.radians(lo + (np.arange(n) + 0.5) * (hi - lo) / n)
+        else:
+            mid = np.arcsin((np.arange(n) + 0.5) / n)
+        ref = float(np.mean(restitution.theta_spheres(mid, 0.897, 0.06, R, M, p.k)))
+        assert got == pytest.approx(ref, abs=2e-3)
 
 
 def test_a_missing_quantity_is_refused_naming_the_file(tmp_path):

@@ -45,8 +45,9 @@ def written(reproduced_all):
 
 
 def test_reproduce_all_prints_one_short_summary(written):
-    """One line per experiment (id and verdict counts, under 80 columns), the totals, the reasons of the differing
-    rows (wrapped between reasons), and where the experiments' folders are."""
+    """One line per experiment (id and verdict counts, under 80 columns), the totals of the paper's claims, the
+    differing claims by whose error they show (wrapped between groups, every line under 80 columns), the rows beyond
+    the paper's domain counted apart, and where the experiments' folders are."""
     out, summaries, stdout = written
     lines = [ln for ln in stdout.splitlines() if ln.strip()]
     printed = [s for s in summaries if s["rows"]]  # the experiments of printed claims; the others come after
@@ -59,13 +60,17 @@ def test_reproduce_all_prints_one_short_summary(written):
             [counts[v] for v in report.VERDICTS], ln
     total, why = report.verdict_counts([r for s in summaries for r in s["rows"]])
     totals = lines[len(printed)]
-    assert totals.startswith("total") and f"({sum(len(s['rows']) for s in summaries)} rows)" in totals
+    assert totals.startswith("total") and f"({sum(total.values())} claims)" in totals
     assert [int(n) for n in re.findall(r"(\d+) (?:reproduced|differs|not-checkable)", totals)] == \
         [total[v] for v in report.VERDICTS]
     head = next(i for i, ln in enumerate(lines) if ln.startswith("today's measurements"))
-    reasons = " ".join(lines[len(printed) + 1:head])
-    assert reasons.startswith("differing rows by reason:")
+    assert all(len(ln) <= 80 for ln in lines[len(printed) + 1:head]), lines[len(printed) + 1:head]
+    reasons = " ".join(" ".join(lines[len(printed) + 1:head]).split())
+    assert reasons.startswith(f"the {total['differs']} that differ, by whose error:")
     assert all(f"{k} {n}" in reasons for k, n in why.items())
+    assert sum(n for _, n, _ in report.whose_error(why)) == total["differs"]
+    beyond = report.beyond_counts([r for s in summaries for r in s["rows"]])
+    assert f"beyond the paper's domain, counted apart ({sum(beyond.values())} rows):" in reasons
     # the measurements apart: their own heading, a line per experiment with its own verdicts, no printed verdict
     assert f"({sum(len(s['measurements']) for s in measured)} rows, 95 %)" in lines[head]
     for s, ln in zip(measured, lines[head + 1:], strict=False):

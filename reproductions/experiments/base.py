@@ -6,7 +6,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 
-from ..config import MEASUREMENT_VERDICTS, Experiment, Node, Printed
+from ..config import BEYOND_SUFFIX, MEASUREMENT_VERDICTS, Experiment, Node, Printed
 from ..results import (
     Comparison,
     Computed,
@@ -38,7 +38,8 @@ def compare(p: Printed, c: Computed) -> Row:
     row = _compare(p, c)
     return dataclasses.replace(row, line=p.line, reason=p.reason, today=p.today,
                                config_line=int(p.where.rsplit(":", 1)[1]) if ":" in p.where else None,
-                               computes=p.computed)
+                               computes=p.computed, margin=c.margin,
+                               domain="beyond" if p.id.endswith(BEYOND_SUFFIX) else "paper")
 
 
 def _compare(p: Printed, c: Computed) -> Row:

@@ -22,8 +22,8 @@ QUANTITIES = ("eq5_full_moment", "eq5_own_moment", "eq7_own_moment", "eq7_n1_as_
               "energy_resal",
               "energy_resal_beyond", "central_stroke", "friction_angle_high", "friction_angle_low", "epsp_cue",
               "criterion_as_printed", "criterion_derived")
-COST = 0.8  # CPU seconds of a run with its figures, about: the process pool starts the longest first
-MODERN = ("e_tip", "mu_tip", "m_ball/m_cue")
+COST = 1.2  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+MODERN = ("e_tip", "mu_tip", "m_ball/m_cue", "mu_s")
 
 
 @dataclass(frozen=True)
@@ -88,6 +88,103 @@ def _random_strokes(seed: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return i, r * np.cos(th), r * np.sin(th), rng.uniform(0.1, 0.6, n)  # i, b/R, c/R, f
 
 
+@dataclass(frozen=True)
+class Sample:
+    """Random off-centre strokes (``_random_strokes``) with the ball's state per unit impulse for Résal's moment
+    about Cy (``resal``) and the full one (``exact``), and the angle φ of the cue's axis with the normal (eq. 11)."""
+
+    i: np.ndarray
+    b: np.ndarray
+    c: np.ndarray
+    f: np.ndarray
+    per: dict[str, dict[str, np.ndarray]]
+    phi: np.ndarray
+
+    def inside(self, f_tip: float) -> np.ndarray:
+        """The paper's domain (line 721): the cue's axis inside the tip's friction cone, φ ≤ atan f_tip."""
+        return self.phi <= float(cue.miscue_angle(f_tip))
+
+
+def _sample(p: Params, seed: int, n: int = 4000) -> Sample:
+    i, bR, cR, f = _random_strokes(seed, n)
+    return _strokes(p, i, bR * p.R, cR * p.R, f)
+
+
+def _strokes(p: Params, i: np.ndarray, b: np.ndarray, c: np.ndarray, f: np.ndarray) -> Sample:
+    per = {m: cue.stroke_per_impulse(i, b, c, R=p.R, k=p.k, f=f, M=p.M, method=m) for m in ("resal", "exact")}
+    return Sample(i, b, c, f, per, np.arccos(np.clip(per["resal"]["cos_phi"], -1.0, 1.0)))
+
+
+def _gain(p: Params, epsp: float, per: dict[str, np.ndarray], b: np.ndarray, *, axis_end: bool) -> np.ndarray:
+    """Relative change of vis viva in the stroke, (T1 − M′V′0²)/(M′V′0²), the ball's state after an impulse P being
+    P times ``per`` (eqs 7) and ω1 given by eq. (10) with A of (8), ω being the cue speed lost at the greatest
+    compression: by eq. (12), equal velocities along the normal at the contact (Résal's), or, with ``axis_end``,
+    equal velocities along the cue's axis, the line of the impulse."""
+    M, Mp, V0, R, k = p.M, p.Mp, p.V0p, p.R, p.k
+    v, w = per["v"], per["w"]
+    Q = M * (v[0] ** 2 + v[1] ** 2) + M * R * R / k * np.sum(w**2, axis=0)  # the ball's vis viva per P²
+    A = 1.0 + Mp * Q
+    if axis_end:
+        omega = V0 / (1.0 + Mp * per["d_K_d"])
+    else:  # eq. (12): V′ cos φ = −(χa + ηb)/R
+        normal = (per["a"] * v[0] + b * v[1]) / R
+        omega = V0 * per["cos_phi"] / (per["cos_phi"] - Mp * normal)
+    omega1 = 2 * A * omega / (A + p.eps * (A - 1) + epsp)  # eq. (10)
+    return (Mp * (V0 - omega1) ** 2 + (Mp * omega1) ** 2 * Q - Mp * V0**2) / (Mp * V0**2)
+
+
+ENDS = (("resal", False, "resal"), ("resal", True, "axis"), ("exact", False, "moment"), ("exact", True, "both"))
+
+
+def _energy(p: Params, seed: int, epsp: float) -> dict[str, float]:
+    """The vis viva after the stroke by eqs (10)-(12) over random off-centre strokes (§I n°2: it is never gained).
+    Where the paper applies them: the cue's axis inside the tip's friction cone (line 721) and the ball sliding on
+    the cloth (the premise of eqs 2-8); apart: the strokes of the cone that the cloth holds (row eq7_grip) and those
+    beyond the cone (« fausse queue »). ``energy_<tag>``: the largest relative gain (signed: > 0, vis viva gained)
+    with Résal's moment and end of compression (resal), the end along the axis (axis), the full moment (moment),
+    both (both)."""
+    s = _sample(p, seed + 1)
+    out: dict[str, float] = {}
+
+    def record(key: str, gain: np.ndarray, mask: np.ndarray) -> None:
+        out[key] = float(np.max(gain[mask], initial=-np.inf))
+        out[key + "_share"] = float(np.mean(gain[mask] > 1e-12)) if mask.any() else 0.0
+        out[key + "_count"] = float(np.sum(mask))
+
+    gains = {(m, e): _gain(p, epsp, s.per[m], s.b, axis_end=e) for m, e, _ in ENDS}
+    for name, f_tip in (("", max(p.tip_friction)), ("_narrow", min(p.tip_friction))):
+        inside = s.inside(f_tip)
+        for m, e, tag in ENDS:
+            slides = s.per[m]["slides"]
+            record(f"energy_{tag}{name}", gains[m, e], inside & slides)
+            record(f"energy_{tag}_grip{name}", gains[m, e], inside & ~slides)
+    beyond = ~s.inside(max(p.tip_friction))
+    for m, e, tag in ENDS:
+        record(f"energy_{tag}_beyond", gains[m, e], beyond)
+    g = gains["resal", False]
+    out["energy_phi_beyond"] = float(np.degrees(s.phi[beyond][np.argmax(g[beyond])])) if beyond.any() else 0.0
+    return out
+
+
+def _tip_slip(p: Params, s: Sample, method: str) -> np.ndarray:
+    """The ball's slip on the tip, over V′0, at the greatest compression as Résal ends it (equal normal velocities at
+    the contact, eq. 12), along the projection of the cue's axis on the tangent plane (the slip ω of eq. d), the
+    state after an impulse P being P times the state per unit impulse (eqs 7); NaN where (12) gives no positive P."""
+    per, R, Mp, V0 = s.per[method], p.R, p.Mp, p.V0p
+    v, w = per["v"], per["w"]
+    r = np.stack([per["a"], s.b, s.c])
+    K = np.stack([v[0], v[1], np.zeros_like(v[0])]) + np.cross(w, r, axis=0)  # contact point's velocity per unit P
+    n = r / R
+    d = cue.cue_axis(s.i)
+    cphi = per["cos_phi"]
+    den = cphi - Mp * np.sum(K * n, axis=0)
+    P = np.where(den > 0, Mp * V0 * cphi / np.where(den > 0, den, 1.0), np.nan)  # M′ω of eq. (12)
+    t = d + cphi * n  # d minus its normal part (d·n = −cos φ), of length sin φ
+    sin_phi = np.linalg.norm(t, axis=0)
+    slip = np.sum((P * K - (V0 - P / Mp) * d) * t, axis=0) / np.where(sin_phi > 0, sin_phi, 1.0)
+    return np.abs(slip) / V0
+
+
 def checks(p: Params, seed: int, epsp: float) -> dict[str, float]:
     R, k, M = p.R, p.k, p.M
     i, bR, cR, f = _random_strokes(seed, 16)
@@ -119,32 +216,11 @@ def checks(p: Params, seed: int, epsp: float) -> dict[str, float]:
             worst["eq7_n1_as_printed"] = max(worst["eq7_n1_as_printed"], float(err[2]))
             n1_original = -(k / R**2) * mu * (b + ff * R * sg) * si * P  # n1 as most likely printed in 1883
             worst["eq7_n1_original"] = max(worst["eq7_n1_original"], float(abs(n1_original - y[2]) * R / (P / M)))
-    # energy: Résal's eq. (12) against the vis viva, over many random off-centre strokes
-    i, bR, cR, f = _random_strokes(seed + 1, 4000)
-    gains = {}
-    for method in ("resal", "exact"):
-        s = cue.cue_stroke(M, p.Mp, p.V0p, i, bR * R, cR * R, R=R, k=k, f=f, eps=p.eps, epsp=epsp, method=method)
-        T0 = p.Mp * p.V0p**2
-        T1 = (p.Mp * s.V1p**2 + M * (s.chi1**2 + s.eta1**2) + M * R * R / k * (s.n1**2 + s.p1**2 + s.q1**2))
-        gains[method] = (T1 - T0) / T0
-    # the paper's domain (line 721): the cue's axis inside the tip's friction cone, φ ≤ atan f_tip; the widest cone
-    # of the footnote (f_tip = 0,50) and the narrowest (0,20); beyond it, « fausse queue »
-    phi = np.arccos(np.clip(s.cos_phi, -1.0, 1.0))
-    gain = gains["resal"]
-    for name, f_tip in (("", max(p.tip_friction)), ("_narrow", min(p.tip_friction))):
-        inside = phi <= float(cue.miscue_angle(f_tip))
-        worst["energy_resal" + name] = float(max(0.0, np.max(gain[inside], initial=0.0)))
-        worst["energy_share" + name] = float(np.mean(gain[inside] > 1e-12))
-        worst["energy_count" + name] = float(np.sum(inside))
-        worst["energy_exact" + name] = float(max(0.0, np.max(gains["exact"][inside], initial=0.0)))
-    beyond = phi > float(cue.miscue_angle(max(p.tip_friction)))
-    worst["energy_resal_beyond"] = float(max(0.0, np.max(gain[beyond], initial=0.0)))
-    worst["energy_share_beyond"] = float(np.mean(gain[beyond] > 1e-12))
-    worst["energy_phi_beyond"] = float(np.degrees(phi[beyond][np.argmax(gain[beyond])]))
-    worst["energy_exact_all"] = float(max(0.0, np.max(gains["exact"])))
-    # a central horizontal stroke is n°5's direct impact, eq. (8), for any ε, ε′ (an identity: random pairs)
+    worst.update(_energy(p, seed, epsp))
+    # eqs (10)-(12) with Résal's choices, for a central horizontal stroke, against n°5's direct impact, eq. (8), at
+    # random pairs ε, ε′: the two are computed by different formulas (cue.cue_stroke, impact.direct_impact)
     e_b, e_c = np.random.default_rng(seed + 2).uniform(0.0, 1.0, (2, 50))
-    s0 = cue.cue_stroke(M, p.Mp, p.V0p, 0.0, 0.0, 0.0, R=R, k=k, f=p.f, eps=e_b, epsp=e_c)
+    s0 = cue.cue_stroke(M, p.Mp, p.V0p, 0.0, 0.0, 0.0, R=R, k=k, f=p.f, eps=e_b, epsp=e_c, method="resal")
     d0 = impact.direct_impact(p.Mp, M, p.V0p, 0.0, eps=e_c, epsp=e_b)
     worst["central_stroke"] = float(max(np.max(np.abs(s0.chi1 - d0.V1p)), np.max(np.abs(s0.V1p - d0.V1)))) / p.V0p
     # direct or retrograde: the sign of χ1 (first of eqs 7) against the printed criterion cos γ ≶ f cos i
@@ -152,10 +228,8 @@ def checks(p: Params, seed: int, epsp: float) -> dict[str, float]:
     per = cue.stroke_per_impulse(ig, 0.3 * R, cg * R, R=R, k=k, f=p.f, M=M, method="resal")
     direct = per["v"][0] > 0
     printed_direct = np.cos(per["gamma"]) < p.f * np.cos(ig)
-    derived_direct = p.f * np.cos(per["gamma"]) * np.tan(ig) < 1
     sl = per["slides"]
     worst["criterion_as_printed"] = float(np.mean(printed_direct[sl] != direct[sl]))
-    worst["criterion_derived"] = float(np.mean(derived_direct[sl] != direct[sl]))
     return worst
 
 
@@ -178,34 +252,13 @@ def run(exp: Experiment) -> Reproduction:
         "R²n1/k = −μ(b + fR sin γ) sin i ω1, the likely original of the digitised line n1 of eqs (7) (eq. 3 "
         "integrated with γ constant), against the integration of Résal's own eqs (2) over the random sliding strokes "
         "(relative to μω1)"))
-    cone = f"φ ≤ {math.degrees(float(cue.miscue_angle(max(p.tip_friction)))):.2f}°"
-    computed["energy_resal"] = Computed(c["energy_resal"], (
-        "largest relative gain of vis viva with eqs (10)-(12), over the random off-centre strokes (of 4000) whose cue "
-        f"axis lies inside the tip's friction cone ({cone}, tip friction {max(p.tip_friction):g}, line 721)"),
-        lambda _p: (
-        f"inside the paper's domain (the cue's axis inside the tip's friction cone, {cone} for the footnote's "
-        f"0,50, line 721), {c['energy_share']:.0%} of the {c['energy_count']:.0f} random off-centre strokes gain vis "
-        f"viva, up to +{c['energy_resal']:.2f} (relative); in the narrowest cone (tip friction "
-        f"{min(p.tip_friction):g}) {c['energy_share_narrow']:.0%} of {c['energy_count_narrow']:.0f}, up to "
-        f"+{c['energy_resal_narrow']:.2f}. Eq. (12) ends the compression on equal normal velocities while the "
-        f"impulse is along the axis: the friction term 2V′0 − 2Aω of (9′) turns negative. Ending the compression "
-        f"along the axis instead (method 'exact') never gains there (largest {c['energy_exact']:.1e}); the "
-        f"unplayable strokes beyond the cone: row energy_beyond"))
-    computed["energy_resal_beyond"] = Computed(c["energy_resal_beyond"], (
-        "largest relative gain of vis viva with eqs (10)-(12), over the random off-centre strokes (of 4000) whose cue "
-        f"axis lies outside the tip's friction cone (φ > {cone[4:]}: « fausse queue »)"), lambda _p: (
-        f"beyond the friction cone, where the paper says no stroke is of use (« fausse queue », line 721), "
-        f"{c['energy_share_beyond']:.0%} of the random strokes gain vis viva, up to "
-        f"×{1 + c['energy_resal_beyond']:.3g} "
-        f"at φ = {c['energy_phi_beyond']:.0f}°, where the denominator of (12) nears zero (the cloth's friction drives "
-        f"the ball back against the cue). Method 'exact' never gains (largest {c['energy_exact_all']:.1e}, all "
-        f"strokes)"))
-    computed["central_stroke"] = Computed(None, (
-        "a definition: eq. (10) for a central horizontal stroke (i = b = c = 0) is n°5's eq. (8) for any ε, ε′ (they "
-        f"agree to {c['central_stroke']:.0e} V′0 over 50 random pairs), so this cannot fail. Line 212 adopts n°5's "
-        "ε′ = 0,27 « pour un coup de queue sur une bille, de quelque manière qu'il soit donné »: an extension of one "
-        "measurement (a central stroke) that neither the paper's premises nor the mechanics determine (ε′ is an "
-        "input of eqs 9-10); eqs (10)-(12) with it are graded by rows energy and eq10_original"))
+    computed.update(_energy_rows(p, c))
+    computed["central_stroke"] = Computed(c["central_stroke"], (
+        "eqs (10)-(12) with Résal's choices for a central horizontal stroke (i = b = c = 0: cos φ = 1, A = 1 + μ), "
+        "against n°5's direct impact, eq. (8), computed apart, at 50 random pairs ε, ε′: the largest difference of "
+        "the ball's and the cue's speeds after the stroke, over V′0. A wrong (10) (ω for ω1, another denominator) "
+        "would fail it; n°5's ε′ of the cue, which line 212 extends to a stroke given in any manner, is graded in "
+        "row epsp"))
     deg = [math.degrees(float(cue.miscue_angle(t))) for t in sorted(p.tip_friction)]
     computed["friction_angle_high"] = Computed(deg[-1], f"atan {max(p.tip_friction):g} in degrees")
     computed["friction_angle_low"] = Computed(deg[0], f"atan {min(p.tip_friction):g} in degrees", lambda pr: (
@@ -221,12 +274,14 @@ def run(exp: Experiment) -> Reproduction:
         f"the printed « cos γ ≶ f cos i » disagrees with the sign of χ1 (first of eqs 7) on "
         f"{c['criterion_as_printed']:.0%} of the grid; the first of eqs (7) gives direct motion iff "
         f"f cos γ tan i < 1, which never disagrees: the printed criterion is garbled; its likely original, "
-        f"cos i ≷ f cos γ sin i, is graded in row criterion_derived"))
-    computed["criterion_derived"] = Computed(c["criterion_derived"], (
-        "cos i ≷ f cos γ sin i (f cos γ tan i ≶ 1, the first of eqs 7) against the sign of χ1 of Résal's own eqs (2) "
-        "on the grid's sliding strokes: it never disagrees. But no sliding stroke of his own equations is retrograde "
-        f"(share {k['retro_own_share']:.0%} over i up to 89.9°, c/R in ±0.99): that needs c < −R; the retrograde "
-        "branch exists only through the omitted moment F a sin i (rows below)"))
+        f"cos i ≷ f cos γ sin i, is stated in row criterion_derived (with the full moment: rows criterion_full, "
+        "criterion_repaired)"))
+    computed["criterion_derived"] = Computed(None, (
+        "a definition: the criterion as most likely printed, cos i ≷ f cos γ sin i, restates the sign of the first of "
+        "eqs (7), χ1 = μ(cos i − f cos γ sin i)ω1 with μω1 > 0, for any value (eqs 7 against the integration of "
+        "Résal's eqs 2: row eq7). Its retrograde branch is empty in his own equations: no sliding stroke is retrograde "
+        f"(share {k['retro_own_share']:.0%} over i up to 89.9°, c/R in ±0.99), that needs c < −R; retrograde "
+        "motion exists only through the omitted moment F a sin i (rows criterion_full, criterion_repaired)"))
     computed.update(_claim_rows(p, k, epsp))
     central = cue.cue_stroke(p.M, p.Mp, p.V0p, 0.0, 0.0, 0.0, R=p.R, k=p.k, f=p.f, eps=p.eps, epsp=epsp)
     ratio = float(central.chi1) / p.V0p
@@ -234,7 +289,8 @@ def run(exp: Experiment) -> Reproduction:
     modern = modern_rows(exp.modern, {
         "e_tip": (ratio * (1 + mu) / mu - 1, "Newton's e of a central stroke with ε = 0, ε′ from n°5"),
         "mu_tip": (max(p.tip_friction), "the chalked tip's friction, 0,20-0,50 (footnote of n°14)"),
-        "m_ball/m_cue": (1 / mu, "1/μ, « μ diffère généralement peu de trois unités »"),
+        "m_ball/m_cue": (1 / mu, "1/μ, « diffère généralement peu de trois unités »"),
+        "mu_s": (p.f, "the ball-cloth friction the stroke's motion on the cloth uses (n°7's f)"),
     })
     return Reproduction(exp, rows_for(exp, computed), (), (_figure_fan(p, epsp), _figure_region(p, epsp)), modern,
                         data_note=f"ε = {p.eps:g} (ball), ε′ = {epsp:.6g} (cue, from n°5), f = {p.f:g}, μ = {mu:g}")
@@ -417,6 +473,53 @@ def _kinematics(p: Params, s: tuple, y: np.ndarray, Vp: float) -> dict[str, floa
             "cloth_slip": float(math.hypot(foot[0], foot[1])), "normal_ball": float(wc @ nhat)}
 
 
+def _material_velocity(v: np.ndarray, w: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """The velocity (x, y) of the ball's material point at r from the centre: the derivative at t = 0 of its position
+    v t + Rot(ω t) r under the rigid motion (Rodrigues' rotation), taken by a complex step (exact for an analytic
+    motion); v: (vx, vy) of the centre, w: (n, p, q), over the batch."""
+    h = 1e-30
+    norm = np.linalg.norm(w, axis=0)
+    axis = w / norm
+    theta = 1j * h * norm
+    r = np.asarray(r, dtype=float)[:, None]
+    turned = (r * np.cos(theta) + np.cross(axis, r, axis=0) * np.sin(theta)
+              + axis * np.sum(axis * r, axis=0) * (1 - np.cos(theta)))
+    return v + turned[:2].imag / h
+
+
+def _criterion_boundary(p: Params) -> dict[str, float]:
+    """The criterion cos i ≷ f cos γ sin i with γ of the repaired (5), where it says χ1 = 0: over a grid of heights
+    c (b = 0.3R, the cloth's f), the inclinations where cos i = f cos γ sin i, and there, on the strokes that slide
+    inside the tip's friction cone, χ1 of the integration of eqs (3) with the full moment, relative to μω1 (it
+    vanishes where the criterion is right)."""
+    from scipy.optimize import brentq
+
+    R, k, M, f, b = p.R, p.k, p.M, p.f, 0.3 * p.R
+
+    def side(i: float, c: float) -> float:
+        a = float(cue.contact_point(b, c, R))
+        g = math.atan2(-k * b * math.sin(i), R * math.cos(i) - k * (c * math.cos(i) + a * math.sin(i)))
+        return math.cos(i) - f * math.cos(g) * math.sin(i)
+
+    incl = np.radians(np.linspace(0.5, 89.5, 361))
+    heights = np.linspace(-0.95, 0.95, 191) * R
+    ii, cc = np.meshgrid(incl, heights, indexing="ij")
+    aa = cue.contact_point(b, cc, R)
+    gg = np.arctan2(-k * b * np.sin(ii), R * np.cos(ii) - k * (cc * np.cos(ii) + aa * np.sin(ii)))
+    sign = np.sign(np.cos(ii) - f * np.cos(gg) * np.sin(ii))
+    worst, count = 0.0, 0
+    P = 0.5
+    for j, m in zip(*np.nonzero(sign[:-1] != sign[1:]), strict=True):
+        c = float(heights[m])
+        i = brentq(side, incl[j], incl[j + 1], args=(c,), xtol=1e-15)
+        per = cue.stroke_per_impulse(i, b, c, R=R, k=k, f=f, M=M, method="exact")
+        if not bool(per["slides"]) or math.acos(min(1.0, float(per["cos_phi"]))) > math.atan(max(p.tip_friction)):
+            continue
+        y = reference.integrate_cue_impulse(i, float(per["a"]), b, c, R, k, f, M, P)
+        worst, count = max(worst, abs(y[0]) / (P / M)), count + 1
+    return {"criterion_repaired": worst if count else float("nan"), "criterion_boundary_count": float(count)}
+
+
 def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
     from scipy.optimize import brentq
 
@@ -424,9 +527,9 @@ def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
     mu = Mp / M
     rng = np.random.default_rng(seed + 10)
     out: dict[str, float] = {}
-    # eq. (1): the slip of the foot (0, 0, −R) from v + ω × r, for random states
+    # eq. (1): the slip of the foot (0, 0, −R), the velocity of the ball's material point there, for random states
     st = rng.normal(size=(5, 200)) * np.array([[1], [1], [1 / R], [1 / R], [1 / R]])
-    foot = cue.ball_point_velocity(*st, np.array([0.0, 0.0, -R]))
+    foot = _material_velocity(st[:2], st[2:], np.array([0.0, 0.0, -R]))
     out["eq1_slip"] = float(np.max(np.abs(foot[:2] - np.stack([st[0] - st[3] * R, st[1] + st[2] * R]))))
     # eqs (2), (3): the force and moments per unit F, from vectors (cue force along d, cloth reaction F sin i and
     # friction f F sin i against the slip at the foot), against the printed lines
@@ -453,7 +556,6 @@ def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
     # sliding strokes, Résal's own eqs (2) and the full moment; strokes the cloth holds
     own = _scenes(seed + 20, 12, p, slides=True, full=False)
     full = _scenes(seed + 21, 12, p, slides=True, full=True, i_max_deg=88.0)
-    grip = _scenes(seed + 22, 8, p, slides=False, full=False)
     P = 0.5
     scale = P / M
     # eq. (4): the slip keeps one direction γ through the stroke
@@ -496,34 +598,75 @@ def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
     for key, v in zip(("chi", "eta", "n", "p", "q"), lines, strict=True):
         out[f"eq7_full_{key}"] = float(v)
     out["eq5_repaired"], out["eq7_repaired"] = rep5, rep7
-    out["eq8_full_moment"], out["eq8_repaired"] = a8f, a8r
+    out["eq8_repaired"] = a8r
+    # (8) as most likely printed against the full-moment integration where the paper applies it: the strokes of the
+    # random sample that slide inside the tip's friction cone (the first 150 of them)
+    sample = _sample(p, seed + 1)
+    tip = max(p.tip_friction)
+    domain = np.flatnonzero(sample.inside(tip) & sample.per["exact"]["slides"])[:150]
+    a8f = 0.0
+    for j in domain:
+        s_ = (float(sample.i[j]), float(sample.per["exact"]["a"][j]), float(sample.b[j]), float(sample.c[j]),
+              float(sample.f[j]), None)
+        y = _y(p, s_, P, True)
+        A_int = 1 + Mp * _ball_vis_viva(p, y) / P**2
+        A8 = _A(p, s_[0], s_[2], s_[3], s_[4], _gamma_printed(p, s_[0], s_[2], s_[3]), mu, digitised=False)
+        a8f = max(a8f, abs(A8 - A_int) / A_int)
+    out["eq8_full_moment"], out["eq8_full_count"] = a8f, float(len(domain))
+    # the premise of line 721: inside the cone the cue does not slide on the ball. The slip at the greatest
+    # compression as Résal ends it, over the sample's strokes that slide on the cloth inside the cone (eqs 7)
+    for method, key in (("resal", "cone_no_slip"), ("exact", "cone_full")):
+        mask = sample.inside(tip) & sample.per[method]["slides"]
+        slip = _tip_slip(p, sample, method)[mask]
+        out[key] = float(np.nanmax(slip, initial=0.0))
+        out[key + "_count"] = float(np.sum(np.isfinite(slip)))
+        out[key + "_median"] = float(np.nanmedian(slip)) if np.isfinite(slip).any() else 0.0
+    # the closed form against the integration of Résal's eqs (3), the greatest compression found on it, on the first 8
+    # of these strokes
+    check = 0.0
+    closed = _tip_slip(p, sample, "resal")
+    mask = np.flatnonzero(sample.inside(tip) & sample.per["resal"]["slides"] & np.isfinite(closed))[:8]
+    for j in mask:
+        s_ = (float(sample.i[j]), float(sample.per["resal"]["a"][j]), float(sample.b[j]), float(sample.c[j]),
+              float(sample.f[j]), None)
+
+        def approach(Pc: float, s_: tuple = s_) -> float:
+            return _kinematics(p, s_, _y(p, s_, Pc, False), V0 - Pc / Mp)["approach"]
+
+        Pc = brentq(approach, 0.0, 2.5 * Mp * V0, xtol=1e-14 * Mp * V0, rtol=1e-13)
+        kin = _kinematics(p, s_, _y(p, s_, Pc, False), V0 - Pc / Mp)
+        sin_phi = math.sqrt(max(1 - float(sample.per["resal"]["cos_phi"][j]) ** 2, 1e-300))
+        check = max(check, abs(abs(kin["w_cos_psi"]) / sin_phi / V0 - float(closed[j])))
+    out["cone_check"], out["cone_check_count"] = check, float(len(mask))
     # the reference stroke of the note: i = 20°, b = 0.3R, c = 0.1R, the cloth's f (it slides)
     ref = (math.radians(20.0), float(cue.contact_point(0.3 * R, 0.1 * R, R)), 0.3 * R, 0.1 * R, p.f, None)
     y_ref = _y(p, ref, P, True)
     out["eq8_ref_full"] = 1 + Mp * _ball_vis_viva(p, y_ref) / P**2
     out["eq8_ref_original"] = _A(p, ref[0], ref[2], ref[3], p.f, _gamma_printed(p, ref[0], ref[2], ref[3]), mu,
                                  digitised=False)
-    # eqs (7) where the cloth holds the ball (the friction is then below f F sin i)
+    # eqs (7) where the cloth holds the ball (the friction is then below f F sin i): the sample's strokes inside the
+    # tip's friction cone that Résal's eqs (2) do not let slide (the first 24 of them), against his eqs integrated
     worst = 0.0
-    for s in grip:
-        ii_, a_, b_, c_, f_, _ = s
-        y = _y(p, s, P, False)
-        pr = _eq7_printed(p, ii_, a_, b_, c_, f_, _gamma_printed(p, ii_, b_, c_), P)
+    held = sample.inside(tip) & ~sample.per["resal"]["slides"]
+    for j in np.flatnonzero(held)[:24]:
+        s_ = (float(sample.i[j]), float(sample.per["resal"]["a"][j]), float(sample.b[j]), float(sample.c[j]),
+              float(sample.f[j]), None)
+        y = _y(p, s_, P, False)
+        pr = _eq7_printed(p, s_[0], s_[1], s_[2], s_[3], s_[4], _gamma_printed(p, s_[0], s_[2], s_[3]), P)
         worst = max(worst, float(np.max(np.abs(pr - y) * np.array([1, 1, R, R, R]) / scale)))
-    out["eq7_grip"] = worst
-    i_r, b_r, c_r, f_r = _random_strokes(seed + 1, 4000)
-    held = ~cue.stroke_per_impulse(i_r, b_r * R, c_r * R, R=R, k=k, f=f_r, M=M, method="resal")["slides"]
-    out["grip_share"] = float(np.mean(held))
+    out["eq7_grip"], out["grip_count"] = worst, float(min(24, int(np.sum(held))))
+    out["grip_share"] = float(np.sum(held) / np.sum(sample.inside(tip)))
+    out["grip_in_cone"] = float(np.sum(held))
+    out["grip_cone"] = float(np.sum(sample.inside(tip)))
     out["grip_i_central"] = math.degrees(math.atan(1 / ((1 + k) * p.f)))
     # eq. (6), (a), (8), (b), (c): Résal's own moment, sliding strokes, a cue speed lost ω1 = 0.7 V′0
     w1 = 0.7 * V0
-    a_err = a8d = a8o = b_err = c_err = d6 = 0.0
+    a_err = a8d = a8o = b_err = 0.0
     for s in own:
         ii_, a_, b_, c_, f_, _ = s
         y = _y(p, s, Mp * w1, False)
         Tb = _ball_vis_viva(p, y)
-        V1 = V0 - (Mp * w1) / Mp  # the first of eqs (2): M′(V′0 − V′1) = ∫F dt
-        d6 = max(d6, abs((V0 - V1) - w1) / V0)
+        V1 = V0 - w1  # eq. (6)
         A_int = 1 + Tb / (Mp * w1**2)
         g = _gamma_printed(p, ii_, b_, c_)
         Ao = _A(p, ii_, b_, c_, f_, g, mu, digitised=False)
@@ -532,15 +675,12 @@ def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
         lost = Mp * V0**2 - Mp * V1**2 - Tb
         a_err = max(a_err, abs(Mp * w1 * (2 * V0 - Ao * w1) - lost) / (Mp * V0**2))
         b_err = max(b_err, abs(Mp * (Ao - 1) * w1**2 - Tb) / Tb)  # ε = 1
-        c_err = max(c_err, abs(Mp * w1**2 - Mp * (V0 - V1) ** 2) / (Mp * w1**2))
-    out.update(eq6_definition=d6, eqa_lost=a_err, eq8_as_digitised=a8d, eq8_original=a8o, eqb_ball=b_err,
-               eqc_cue=c_err)
+    out.update(eqa_lost=a_err, eq8_as_digitised=a8d, eq8_original=a8o, eqb_ball=b_err)
     # the greatest compression as Résal ends it (equal normal velocities), found on the integration. (12) and the
     # two lines before it follow from (7): Résal's own eqs (2). (9′) is an energy balance, true only where the
     # cue's moment is that of its force (the full moment: with Résal's, its work is not F·v of the contact point):
     # there, law (6) at the end of the stroke is solved on the integration for ω1 ((9), (10))
-    e9p = e9pc = e12 = e10 = e10d = e9 = nv = nv7 = cone = dd = 0.0
-    phi_tip = math.atan(max(p.tip_friction))
+    e9p = e9pc = e12 = e10 = e10d = e9 = nv = nv7 = dd = 0.0
     for j, (s, is_full) in enumerate([(s, False) for s in own] + [(s, True) for s in full]):
         ii_, a_, b_, c_, f_, per = s
         si_, ci_ = math.sin(ii_), math.cos(ii_)
@@ -562,8 +702,6 @@ def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
             nv = max(nv, abs(kin["normal_ball"] - (yc[0] * a_ + yc[1] * b_) / R) / V0)
             nv7 = max(nv7, abs(kin["normal_ball"] - mu * ((ci_ - f_ * math.cos(g) * si_) * a_
                                                           - f_ * b_ * math.sin(g) * si_) * om / R) / V0)
-            if math.acos(min(1.0, cphi)) <= phi_tip:
-                cone = max(cone, abs(kin["w_cos_psi"]) / math.sqrt(max(1 - cphi**2, 1e-300)) / V0)
             continue
         A = 1 + Mp * _ball_vis_viva(p, yc) / Pc**2  # the ball's vis viva per M′ω², as (8) defines A
         lhs = 2 * V0 - 2 * A * om
@@ -587,26 +725,28 @@ def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
         e9 = max(e9, abs(2 * V0 - (A + eps_b * (A - 1) + eps_c) * w1_law - (fr_cue - fr_cloth)) / V0)
     out.update(eq9p_as_printed=e9p, eq9p_corrected=e9pc, eq12_as_derived=e12, eq10_original=e10,
                eq10_as_digitised=e10d, eq9_as_printed=e9, eq_normal_velocity=nv, eq_normal_velocity_7=nv7,
-               cone_no_slip=cone, eqd_as_printed=dd)
+               eqd_as_printed=dd)
     # eq. (11): cos φ = −d·n̂ against the printed −(a cos i + c sin i)/R
     d_ = cue.cue_axis(ii)
     out["eq11_as_printed"] = float(np.max(np.abs(-(a * ci + c * si) / R - (-(d_ * np.stack([a, b, c])).sum(0) / R))))
     out["eq11_corrected"] = float(np.max(np.abs(-(a * ci - c * si) / R - (-(d_ * np.stack([a, b, c])).sum(0) / R))))
-    # the criterion with the full moment: the likely original cos i ≷ f cos γ sin i with γ of (5) as printed, and
-    # with the repaired γ, against the sign of χ1 (sliding strokes up to i = 89°)
+    # the criterion with the full moment: the likely original cos i ≷ f cos γ sin i with γ of (5) as printed, against
+    # the sign of χ1 on the grid's sliding strokes (b = 0.3R), inside the tip's friction cone (the paper's domain) and
+    # on all the strokes the cue can reach (cos φ > 0)
     ig, cg_ = np.meshgrid(np.radians(np.linspace(1, 89, 60)), np.linspace(-0.9, 0.9, 41), indexing="ij")
-    for bR in (0.3,):
-        per = cue.stroke_per_impulse(ig, bR * R, cg_ * R, R=R, k=k, f=p.f, M=M, method="exact")
-        sl = per["slides"] & (per["cos_phi"] > 0)
-        direct = per["v"][0] > 0
-        g_pr = np.arctan2(-k * bR * R * np.sin(ig), (R - k * cg_ * R) * np.cos(ig))
-        a_g = per["a"]
-        g_rp = np.arctan2(-k * bR * R * np.sin(ig), R * np.cos(ig) - k * (cg_ * R * np.cos(ig) + a_g * np.sin(ig)))
-        crit_pr = p.f * np.cos(g_pr) * np.tan(ig) < 1
-        crit_rp = p.f * np.cos(g_rp) * np.tan(ig) < 1
-        out["criterion_full"] = float(np.mean(crit_pr[sl] != direct[sl]))
-        out["criterion_repaired"] = float(np.mean(crit_rp[sl] != direct[sl]))
-        out["retro_full_share"] = float(np.mean(~direct[sl]))
+    per = cue.stroke_per_impulse(ig, 0.3 * R, cg_ * R, R=R, k=k, f=p.f, M=M, method="exact")
+    reach = per["slides"] & (per["cos_phi"] > 0)
+    inside = reach & (np.arccos(np.clip(per["cos_phi"], -1.0, 1.0)) <= math.atan(max(p.tip_friction)))
+    direct = per["v"][0] > 0
+    g_pr = np.arctan2(-k * 0.3 * R * np.sin(ig), (R - k * cg_ * R) * np.cos(ig))
+    crit_pr = p.f * np.cos(g_pr) * np.tan(ig) < 1
+    out["criterion_full"] = float(np.mean(crit_pr[inside] != direct[inside]))
+    out["criterion_full_reach"] = float(np.mean(crit_pr[reach] != direct[reach]))
+    out["retro_full_share"] = float(np.mean(~direct[inside]))
+    out["retro_full_count"] = float(np.sum(~direct[inside]))
+    out["retro_full_inside"] = float(np.sum(inside))
+    out["retro_full_share_reach"] = float(np.mean(~direct[reach]))
+    out.update(_criterion_boundary(p))
     own_per = cue.stroke_per_impulse(np.radians(np.linspace(0, 89.9, 400))[:, None], 0.0,
                                      np.linspace(-0.99, 0.99, 199)[None, :] * R, R=R, k=k, f=p.f, M=M,
                                      method="resal")
@@ -620,6 +760,48 @@ def claims(p: Params, seed: int, epsp: float) -> dict[str, float]:
 QUANTITIES = QUANTITIES + CLAIMS
 
 
+def _energy_rows(p: Params, c: dict[str, float]) -> dict[str, Computed]:
+    """The rows « vis viva never gained » with eqs (10)-(12) (``_energy``): a violation (the largest gain, 0 if none)
+    and the worst signed margin (the least loss, negative where vis viva is gained)."""
+    tip, narrow = max(p.tip_friction), min(p.tip_friction)
+    cone = f"φ ≤ {math.degrees(float(cue.miscue_angle(tip))):.2f}°"
+
+    def share(key: str) -> str:
+        return f"{c[key + '_share']:.0%} of {c[key + '_count']:.0f}"
+
+    def loss(key: str) -> str:
+        return (f"every stroke loses at least {-c[key]:.1%} of the cue's vis viva" if c[key] < 0 else
+                f"{share(key)} gain, up to +{c[key]:.2f}")
+
+    resal = Computed(max(0.0, c["energy_resal"]), (
+        "largest relative gain of vis viva with eqs (10)-(12) as printed (Résal's moment about Cy, the compression "
+        "ended on equal normal velocities), over the random off-centre strokes (of 4000) where the paper applies "
+        f"them: the cue's axis inside the tip's friction cone ({cone}, tip friction {tip:g}, line 721) and the ball "
+        "sliding on the cloth (the premise of eqs 2-8)"), lambda _p: (
+        f"inside the paper's domain {share('energy_resal')} sliding strokes gain vis viva, up to "
+        f"+{c['energy_resal']:.2f} (relative); in the narrowest cone (tip friction {narrow:g}) "
+        f"{share('energy_resal_narrow')}, up to +{c['energy_resal_narrow']:.2f}. Eq. (12) ends the compression on "
+        "equal normal velocities while the impulse stays along the cue's axis (the premise of line 721, row cone), "
+        "and eq. (2) omits the moment F a sin i (row eq2_moment): the friction term 2V′0 − 2Aω of (9′) turns "
+        "negative. Neither repair alone suffices: ending the compression along the axis, the line of the impulse, "
+        f"with Résal's moment, {share('energy_axis')} sliding strokes still gain, up to +{c['energy_axis']:.2f}; "
+        f"restoring the moment with (12) kept, {share('energy_moment')}, up to +{c['energy_moment']:.2f}; with both "
+        f"(method 'exact'), {loss('energy_both')}. The strokes of the cone that the cloth holds, outside the "
+        f"sliding premise (row eq7_grip): {share('energy_resal_grip')} gain, up to "
+        f"+{c['energy_resal_grip']:.2f}; the strokes beyond the cone: row energy_beyond"),
+        margin=-c["energy_resal"])
+    beyond = Computed(max(0.0, c["energy_resal_beyond"]), (
+        "largest relative gain of vis viva with eqs (10)-(12) as printed, over the random off-centre strokes (of "
+        f"4000) whose cue axis lies outside the tip's friction cone (φ > {cone[4:]}: « fausse queue », line 721)"),
+        lambda _p: (
+        "beyond the friction cone, where the paper says no stroke is of use (« fausse queue », line 721), "
+        f"{share('energy_resal_beyond')} random strokes gain vis viva, up to ×{1 + c['energy_resal_beyond']:.3g} "
+        f"at φ = {c['energy_phi_beyond']:.0f}°, where the denominator of (12) nears zero (the cloth's friction "
+        "drives the ball back against the cue). With the full moment and the compression ended along the axis "
+        f"(method 'exact'), {loss('energy_both_beyond')}"), margin=-c["energy_resal_beyond"])
+    return {"energy_resal": resal, "energy_resal_beyond": beyond}
+
+
 def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Computed]:
     """The Computed values of the claim-by-claim rows (``claims``), with what explains each disagreement."""
     integ = "largest discrepancy from the impulse integration of eqs (3) (rtol 1e-10)"
@@ -630,17 +812,28 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
         return lambda _pr: text
 
     return {
-        "cone_no_slip": Computed(k["cone_no_slip"], "largest slip of the ball on the tip at the greatest compression, "
-                                 f"over V′0, strokes inside the cone (tip friction {mu_tip:g})", why(
-            f"inside the cone the ball still slips on the tip, up to {k['cone_no_slip']:.2f} V′0 at the greatest "
-            "compression (the slip ω that (d) and (9) keep): with Coulomb friction a sliding tip pushes on the edge of "
-            "its cone, and a tip that does not slide pushes off the axis. The premise that the force stays on the "
-            "axis inside the cone is not supported")),
-        "mu_ratio": Computed(None, "a property of the cues and balls of 1883 (today's 18 oz cue, 6 oz ball: 3)"),
-        "tip_friction_range": Computed(None, "a measurement of the chalked tip, which no premise of the paper gives"),
+        "cone_no_slip": Computed(k["cone_no_slip"], (
+            "largest slip of the ball on the tip, over V′0, at the greatest compression as Résal ends it (equal normal "
+            "velocities, eq. 12), along the projection of the cue's axis on the tangent plane (the slip ω of eq. d), "
+            f"over the random strokes (of 4000) that slide on the cloth inside the cone (tip friction {mu_tip:g}), "
+            f"Résal's eqs (7); on {k['cone_check_count']:.0f} of them the integration of eqs (3) gives the same slips "
+            f"to {k['cone_check']:.0e} V′0"), why(
+            f"inside the cone the ball still slips on the tip: up to {k['cone_no_slip']:.2f} V′0 at the greatest "
+            f"compression (median {k['cone_no_slip_median']:.2f} V′0, {k['cone_no_slip_count']:.0f} sliding strokes "
+            f"of Résal's eqs); with the full moment of F, up to {k['cone_full']:.2f} V′0 "
+            f"({k['cone_full_count']:.0f} strokes). The slip ω is the one that (d) and (9) keep: with Coulomb "
+            "friction a sliding tip pushes on the edge of its cone, and a tip that does not slide pushes off the axis. "
+            "The premise that the force stays on the axis inside the cone is not supported")),
+        "mu_ratio": Computed(None, "a measurement: the masses of the cues and balls of 1883, which no premise of the "
+                             "paper gives (today's 18 oz cue and 6 oz ball: 3)"),
+        "tip_friction_range": Computed(None, "a measurement: the friction of the chalked tip, which no premise of the "
+                                     "paper gives"),
         "f_cloth": Computed(None, "a measurement: Coriolis's value of the cloth's friction (n°7), which no premise of "
                             "the paper gives"),
-        "eq1_slip": Computed(k["eq1_slip"], "v + ω × r at the foot r = (0, 0, −R), over 200 random states (m/s)"),
+        "eq1_slip": Computed(k["eq1_slip"], (
+            "the velocity of the ball's material point at the foot r = (0, 0, −R), the derivative of its position "
+            "under the rigid motion (Rodrigues' rotation, complex step), against (χ − pR, η + nR), over 200 random "
+            "states (m/s)")),
         "eq2_as_digitised": Computed(k["eq2_as_digitised"], "largest discrepancy per unit F from Newton–Euler", why(
             "the digitised second line reads « M dη/dt = F(cos i − f v_x/v cos i) » and the fourth « dv/dt »; the 1883 "
             "text most likely had M dχ/dt = F(cos i − f (v_x/v) sin i) and M R²/k dn/dt (as eqs 3 use): with these "
@@ -657,8 +850,9 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
             f"through (a, b, c)) over P R, eqs (2) with the full moment; Résal's own (2) breach it by up to "
             f"{k['eq2_own_breach']:.2f}")),
         "eq3_as_digitised": Computed(k["eq3_as_digitised"], "eqs (2) divided by M′dV′ = −F dt, line by line", why(
-            "the fourth line has « + μ(c cos i + f v_x/v R sin i) dV′ »: with M′dV′ = −F dt it is −μ(…) dV′, the sign "
-            "that (5) and (7) use (with the plus sign the friction terms of (5) do not cancel); likely an OCR slip. "
+            "the fourth line reads « R²/k dp = μ(c cos i + f v′_x/v R sin i) dV′ »: with M′dV′ = −F dt it is "
+            "−μ(…) dV′, the sign that (5) and (7) use (with the plus sign the friction terms of (5) do not cancel); "
+            "likely an OCR slip. "
             f"With −μ the lines agree to {k['eq3_original']:.0e} (row eq3_original)")),
         "eq3_original": Computed(k["eq3_original"], (
             "eqs (3) as most likely printed in 1883, the fourth line R²/k dp = −μ(c cos i + f (v′_x/v) R sin i) dV′, "
@@ -670,7 +864,9 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
         "eq5_repaired": Computed(k["eq5_repaired"], (
             "tan γ = kb sin i/(k(c cos i + a sin i) − R cos i) against the full-moment integration (modulo π; cos γ "
             "has the sign of R cos i − k(c cos i + a sin i))")),
-        "eq6_definition": Computed(k["eq6_definition"], "M′(V′0 − V′1) = ∫F dt by the first of eqs (2)"),
+        "eq6_definition": Computed(None, (
+            "a definition: (6) names ω1 the cue's loss of speed, « en posant », and the first of eqs (2), M′dV′/dt = "
+            "−F, integrates to ∫F dt = M′ω1 for any stroke: nothing can fail")),
         **{f"eq7_full_{n}": Computed(k[f"eq7_full_{n}"], integ + " with the full moment, relative to μω1", why(
             f"with the moment F a sin i, the line {line} of (7) with γ of the printed (5) errs by up to "
             f"{k[f'eq7_full_{n}']:.2f} μω1 ({what}); method 'exact' uses the repaired γ and p1 (row eq7_repaired)"))
@@ -680,11 +876,15 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
                                   ("q", "q1", "the moment −b cos i about Cz is whole"))},
         "eq7_repaired": Computed(k["eq7_repaired"], integ + " with the full moment: γ of the repaired (5), "
                                  "R²p1/k = μ(c cos i + a sin i + fR cos γ sin i) ω1"),
-        "eq7_grip": Computed(k["eq7_grip"], integ + ", strokes where the cloth holds the ball", why(
+        "eq7_grip": Computed(k["eq7_grip"], integ + ", strokes inside the tip's friction cone where the cloth holds "
+                             "the ball", why(
             f"(5) and (7) take the cloth's friction as f F sin i against a slip; where |D| ≤ (1 + k) f sin i the "
-            f"cloth holds the foot (no slip, less friction) and (7) errs by up to {k['eq7_grip']:.2f} μω1. That is "
-            f"{k['grip_share']:.0%} of random strokes (i ≤ 80°, f 0.1-0.6), and every central stroke steeper than "
-            f"i = {k['grip_i_central']:.1f}° at f = {p.f:g}: the paper does not consider this regime")),
+            f"cloth holds the foot (no slip, less friction) and (7) errs by up to {k['eq7_grip']:.2f} μω1 (over "
+            f"{k['grip_count']:.0f} such strokes). The cloth holds {k['grip_share']:.0%} of the random strokes inside "
+            f"the cone ({k['grip_in_cone']:.0f} of {k['grip_cone']:.0f}; i ≤ 80°, f 0.1-0.6): steep cues striking "
+            "the ball high, where the paper applies (6) and (7) to every stroke (line 839) and places its retrograde "
+            "motion, with the cue strongly inclined on the cloth (line 847, row criterion); a central stroke "
+            f"(φ = i) is held beyond i = {k['grip_i_central']:.1f}° at f = {p.f:g}, outside the cone")),
         "eqa_lost": Computed(k["eqa_lost"], "M′ω1(2V′0 − Aω1), A of (8) as most likely printed, against the vis viva "
                              "lost in the integration, over M′V′0²"),
         "eq8_as_digitised": Computed(k["eq8_as_digitised"], "relative discrepancy from 1 + (ball's vis viva)/(M′ω1²)",
@@ -697,9 +897,11 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
             "integration of Résal's eqs (2); with the full moment c cos i becomes c cos i + a sin i")),
         "eq8_full_moment": Computed(k["eq8_full_moment"], (
             "relative discrepancy of (8) as most likely printed (γ of the printed 5, c cos i) from 1 + (ball's vis "
-            "viva)/(M′ω1²) of the integration with the full moment of F, over 12 random sliding strokes"), why(
+            f"viva)/(M′ω1²) of the integration with the full moment of F, over {k['eq8_full_count']:.0f} random "
+            f"strokes that slide on the cloth inside the tip's friction cone (tip friction {mu_tip:g})"), why(
             f"(8) follows from eqs (7), which omit the moment F a sin i about Cy: against the full-moment mechanics it "
-            f"errs by up to {k['eq8_full_moment']:.1%}; in the reference stroke (i = 20°, b = 0.3R, c = 0.1R, "
+            f"errs by up to {k['eq8_full_moment']:.1%} over {k['eq8_full_count']:.0f} random sliding strokes inside "
+            "the cone; in the reference stroke (i = 20°, b = 0.3R, c = 0.1R, "
             f"f = {p.f:g}, μ = {mu:g}) it gives A = {k['eq8_ref_original']:.3f} where the mechanics give "
             f"{k['eq8_ref_full']:.3f}. With γ of the repaired (5) and c cos i + a sin i it agrees (row eq8_repaired)")),
         "eq8_repaired": Computed(k["eq8_repaired"], (
@@ -707,7 +909,9 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
             "(c cos i + a sin i + fR cos γ sin i)² + b² cos²i]} with γ of the repaired (5), against the full-moment "
             "integration (relative)")),
         "eqb_ball": Computed(k["eqb_ball"], "M′(A − 1)ω1² against the ball's vis viva (lost velocities, from rest)"),
-        "eqc_cue": Computed(k["eqc_cue"], "M′ω1² against M′(V′0 − V′1)²"),
+        "eqc_cue": Computed(None, (
+            "a definition: the cue's lost velocity is V′0 − V′1 = ω1 by (6), so the vis viva of its lost velocity is "
+            "M′ω1² for any stroke, and (c) is ε′ times it: nothing can fail")),
         "eqd_as_printed": Computed(k["eqd_as_printed"], "relative discrepancy of each printed right-hand side from its "
                                    "left-hand side with ∫F dt = M′ω1 (first of eqs 2)", why(
             "∫F dt = M′ω1 > 0, so −2ω∫F cos ψ dt = −2M′ω cos ψ ω1 and 2ω′∫f F sin i dt = +2M′ω′ f sin i ω1; both "
@@ -725,8 +929,8 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
             "(equal normal velocities), A from its vis viva: an exact energy balance there. With Résal's own moment it "
             "fails (the work of his moment is not that of F at (a, b, c))")),
         "eq10_as_digitised": Computed(k["eq10_as_digitised"], "ω against ω1 of law (6) solved on the integration", why(
-            "the digitised (10) reads « ω = 2Aω/(…) »: the left side is ω1 (the subscript lost); with ω1 it "
-            "reproduces (next row)")),
+            "the digitised (10) reads « ω = 2Aω/(A + (A − 1)ε + ε′) »: the left side is ω1 (the subscript lost); "
+            "with ω1 it reproduces (next row)")),
         "eq10_original": Computed(k["eq10_original"], (
             "ω1 = 2Aω/(A + (A − 1)ε + ε′) against law (6) at the end of the stroke (friction terms at the greatest "
             "compression) solved for ω1 on the full-moment integration, random ε, ε′ and the footnote's")),
@@ -740,12 +944,19 @@ def _claim_rows(p: Params, k: dict[str, float], epsp: float) -> dict[str, Comput
         "eq12_as_derived": Computed(k["eq12_as_derived"], (
             "(12), with cos φ of the corrected (11), against the instant of equal normal velocities found on the "
             "integration of Résal's eqs (2) (relative)")),
-        "criterion_full": Computed(k["criterion_full"], "share of the grid's sliding strokes (full moment) where "
-                                   "cos i ≷ f cos γ sin i with γ of the printed (5) misjudges the sign of χ1", why(
-            f"with the moment F a sin i, {k['retro_full_share']:.0%} of the grid's sliding strokes are retrograde "
-            f"(steep cues), and γ of the printed (5) misjudges {k['criterion_full']:.0%}; with the repaired γ the "
-            "criterion is exact (next row)")),
-        "criterion_repaired": Computed(k["criterion_repaired"], "the same with γ of the repaired (5)"),
+        "criterion_full": Computed(k["criterion_full"], (
+            "share of the grid's strokes (b = 0,3R, c and i on a grid) that slide inside the tip's friction cone where "
+            "cos i ≷ f cos γ sin i with γ of the printed (5) misjudges the sign of χ1 with the full moment"), why(
+            f"with the moment F a sin i, {k['retro_full_share']:.1%} of the grid's sliding strokes inside the cone are "
+            f"retrograde ({k['retro_full_count']:.0f} of {k['retro_full_inside']:.0f}: steep cues striking high), "
+            f"and γ of the printed (5) misjudges {k['criterion_full']:.1%}; over all the strokes the cue can reach "
+            f"(miscues beyond the cone included) {k['retro_full_share_reach']:.0%} are retrograde and it misjudges "
+            f"{k['criterion_full_reach']:.0%}. With the repaired γ the criterion is right (row criterion_repaired)")),
+        "criterion_repaired": Computed(k["criterion_repaired"], (
+            "cos i ≷ f cos γ sin i with γ of the repaired (5), where it says χ1 = 0 (cos i = f cos γ sin i): over "
+            "191 heights c (b = 0,3R, the cloth's f), the strokes there that slide inside the tip's friction cone "
+            f"({k['criterion_boundary_count']:.0f}), the largest χ1 of the integration of eqs (3) with the full "
+            "moment, relative to μω1")),
         "eps_n5_fraction": Computed(k["eps_n5_fraction"], "n°5: 1 + ε + 3(1 + ε′) = 24/5 with ε = 0", why(
             f"n°5 gives ε′ = 4/15 = {k['eps_n5_fraction']:.4f}; « 1/14 » is an OCR slip of « 4/15 » (0,27 follows "
             "from 4/15, not from 1/14 = 0,071); the likely original is graded in row eps_n5_original")),

@@ -19,11 +19,11 @@ from ..mechanics import cushion, impact
 from ..mechanics.paths import Regime
 from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
 
-QUANTITIES = ("j_today", "stays_on_cloth", "q_constant", "eq1", "eq2_as_printed", "eq3", "eq4", "eq5", "eq3_in_p",
+QUANTITIES = ("j_today", "stays_on_cloth", "q_constant", "eq1", "eq2_original", "eq3", "eq4", "eq5", "eq3_in_p",
               "n_of_p", "eq6", "eq7_as_printed", "phi_sign", "eq8_as_printed", "eq8_sign", "eq8_differential",
               "eq9", "dchi", "zeta_integral_sign", "nu_n5", "eq10_as_printed", "eq10_sign", "n0_zero",
-              "not_elementary", "closed_form", "small_quantity", "expansion_identity", "eq11_as_printed",
-              "approx_error", "approx_error_beyond", "eq11_integrable", "eq2_original")
+              "not_elementary", "small_quantity", "expansion_identity", "eq11_as_printed",
+              "approx_error", "approx_error_beyond", "eq11_integrable")
 COST = 1.0  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("mu_c", "e_c", "e_c(v)")
 
@@ -64,7 +64,6 @@ def checks(p: Params, seed: int) -> dict[str, float]:
     chi0, zeta0, p0, n0, j = _scenes(seed)
     R, k = p.R, p.k
     ode = cushion.cushion_impact(chi0, zeta0, p0, n0, R=R, k=k, j=j, eps=p.eps, method="ode")
-    exact = cushion.cushion_impact(chi0, zeta0, p0, n0, R=R, k=k, j=j, eps=p.eps, method="exact")
     a = -zeta0
     phi0, phi1 = chi0 - p0 * R, ode.chi1 - ode.p1 * R
     slide = (ode.regime != Regime.GRIP) & (np.abs(phi1) > 1e-9 * a)
@@ -73,8 +72,6 @@ def checks(p: Params, seed: int) -> dict[str, float]:
         "eq5": np.max(np.abs(phi1 - (chi0 + p0 * R / k - (1 + k) / k * ode.p1 * R)) / a),
         "eq6": np.max(np.abs(ode.n1 * R - n0 * R * np.abs(phi1 / phi0) ** (k / (1 + k)))[slide] / a[slide]),
         "eq9": np.max(np.abs(ode.chi1 - (k * chi0 + p0 * R + phi1) / (1 + k)) / a),
-        "closed_form": np.max(np.abs(np.c_[exact.chi1 - ode.chi1, (exact.p1 - ode.p1) * R, (exact.n1 - ode.n1) * R])
-                              / a[:, None]),
     }
     # (7) and (10) as printed (exponent (1 + k)/2): the slip speed they give against the integrated one
     psi1 = ode.n1 * R
@@ -134,7 +131,6 @@ def run(exp: Experiment) -> Reproduction:
     beyond = cl["approx_error_beyond"]
     computed["approx_error_beyond"] = Computed(beyond[0], beyond[1] + (
         f"; the rebound angle errs by up to {err.max():.2f}° ({where})"))
-    computed["closed_form"] = Computed(c["closed_form"], how + "; the exact path is the ₂F₁ closed form")
     e_modern = _modern_e(p, p.speed * np.cos(theta))
     modern = modern_rows(exp.modern, {
         "mu_c": (p.j, "Coriolis's j (n°11)"),
@@ -252,25 +248,26 @@ def claims(p: Params, seed: int) -> dict[str, tuple[float, str]]:
     om_q0 = om.copy()
     om_q0[:, 2] = 0.0
     F, dom = cushion.rigid_body_rates(v, om, R, k, js)
-    out["q_constant"] = (float(max(np.max(np.abs(dom[:, 2])) * R / np.max(js),
-                                   np.max(np.abs(u[:, :2] - cushion.contact_velocity(v, om_q0, R)[:, :2])) / scale)),
-                         "largest rate of q (×R/j) under the cushion's reaction, and largest change of the slip "
-                         "when q is set to 0, relative, over 200 random states (r × F has no component along "
-                         "r = −R e_z)")
-    out["eq1"] = (float(np.max(np.abs(u[:, :2] - np.c_[phi, psi])) / scale),
-                  "largest |v + ω × r − (χ − pR, nR)| over 200 random states, r = −R e_z, relative")
+    q_rate = float(np.max(np.abs(dom[:, 2])) * R / np.max(js))
+    q_slip = float(np.max(np.abs(u[:, :2] - cushion.contact_velocity(v, om_q0, R)[:, :2])) / scale)
+    out["q_constant"] = (None, (
+        f"a definition: an identity true for any state: the cushion's reaction acts at r = −R e_z, and r × F has "
+        f"no component along r, so no moment turns q; and q e_z × r = 0, so q does not enter the slip. Over 200 "
+        f"random states the rate of q (×R/j) is {q_rate:.3g} and setting q to 0 changes the slip by {q_slip:.3g}"))
+    eq1_err = float(np.max(np.abs(u[:, :2] - np.c_[phi, psi])) / scale)
+    out["eq1"] = (None, (
+        f"a definition: φ, ψ are the components along the cushion and the vertical of the slip v + ω × r of the "
+        f"point touching the cushion (r = −R e_z), which n°11 writes in place of n°8's v_x, v_y; that they are "
+        f"χ − pR and nR is true for any state (over 200 random states they differ by {eq1_err:.3g}, relative)"))
     vs = np.hypot(phi, psi)
     rates_printed = np.c_[-js * phi / vs, np.ones_like(vs), -js * psi / vs, js * phi / vs]
     rates_true = np.c_[F[:, 0], F[:, 2], dom[:, 0] * R / k, dom[:, 1] * R / k]
     orig = float(np.max(np.abs(rates_true - rates_printed)))
-    out["eq2_as_printed"] = (float(np.max(np.abs(js * phi / vs))), (
-        f"the digitised first equation, M dy/dt = −(φ/v) fZ, gives the vertical velocity (zero by the premise "
-        f"η = 0) the rate of the friction along the cushion: largest |jφ/v| over 200 random states. The likely "
-        f"original, M dχ/dt (written M dx/dt as in §III eq. (4)), and the three others agree with Newton and "
-        f"Euler in vectors to {orig:.1e} per unit normal impulse (row eq2_original)"))
     out["eq2_original"] = (orig, (
         "largest |rate by (2) − rate by Newton and Euler in vectors| per unit normal impulse over 200 random states, "
-        "the first equation read M dχ/dt = −(φ/v) fZ (the likely original)"))
+        "the first equation read M dχ/dt = −(φ/v) fZ: the digitised dy is a glyph of dχ (y is the vertical, "
+        "whose velocity η is 0 by the premise, and M dy/dt against a force is not even homogeneous), as in "
+        "§V's eqs (2)"))
     lhs3, rhs3 = dom[:, 0] * R / psi, -dom[:, 1] * R / phi
     out["eq3"] = (float(np.max(np.abs(lhs3 - rhs3) / np.maximum(np.abs(lhs3), np.abs(rhs3)))),
                   "largest relative |d(nR)/(nR) + d(pR)/(χ − pR)| from Newton and Euler, 200 random states")
@@ -298,10 +295,11 @@ def claims(p: Params, seed: int) -> dict[str, tuple[float, str]]:
     wide = cushion.cushion_impact(wc, wz, wp / R, wn / R, R=R, k=k, j=wj, eps=p.eps, method="ode")
     wphi1 = wide.chi1 - wide.p1 * R
     turned = int(np.sum(np.sign(wphi1) * np.sign(wc - wp) < 0))
-    out["phi_sign"] = (float(turned), (
-        f"scenes of 80 where φ1 has the sign opposite to φ0 in the integration (|φ0| 1e-4…3 m/s, |ψ0| 0.01…3 m/s, "
-        f"j 0.05…1.5); {int(np.sum(wphi1 == 0))} end with the slip stopped. φ = φ0 U^(1 + k) with U ≥ 0: |φ| only "
-        f"decreases, and reaches 0 only with ψ"))
+    out["phi_sign"] = (None, (
+        f"a definition: an identity true for any state: by eqs (2) and (1), dφ = dχ − R dp = −j(1 + k)(φ/v) dζ, "
+        f"so φ = φ0 exp(−j(1 + k)∫dζ/v) keeps the sign of φ0, and |φ| reaches 0 only with the whole slip v "
+        f"(then the ball grips). The integration of 80 scenes (|φ0| 1e-4…3 m/s, |ψ0| 0.01…3 m/s, j 0.05…1.5) "
+        f"agrees: {turned} turn, {int(np.sum(wphi1 == 0))} end with the slip stopped"))
     # l. 461: eq. (8), j dζ = ∓√(…) dχ, at the integrated end states, compared as dχ/(j dζ) = −φ/v (bounded by 1,
     # so that a slip nearly stopped does not magnify the integration's error)
     r2 = (psi0 / phi0) ** 2
@@ -321,8 +319,8 @@ def claims(p: Params, seed: int) -> dict[str, tuple[float, str]]:
     dphi = (F1[:, 0] - dom1[:, 1] * R) / j  # dφ/(j dζ)
     out["eq8_differential"] = (float(np.max(np.abs(dphi / true8 - 1)[slide])), (
         f"largest |(dφ/(j dζ))/(dχ/(j dζ)) − 1| from Newton and Euler at the same states: the digitised dφ makes "
-        f"the right side of (8) (1 + k) times the left. With dχ, as the text next uses (« d'où dχ = dφ/(1 + k), et "
-        f"l'équation (8) donne par suite »), (8) agrees to {out['eq8_sign'][0]:.1e} (row eq8_sign)"))
+        f"the right side of (8) (1 + k) times the left. With dχ, as the text next uses (« dχ = dφ/(1 + k) », row "
+        f"dchi, then the integral of (8)), (8) agrees to {out['eq8_sign'][0]:.1e} (row eq8_sign)"))
     # l. 473 (a point inside the impact) and l. 483 (the end): the sign of the integral
     half = (1 + nu) * a / 2
     mchi, mp, _ = cushion.state_after_impulse(chi0, p0, n0, half, R=R, k=k, j=j)
@@ -362,20 +360,34 @@ def claims(p: Params, seed: int) -> dict[str, tuple[float, str]]:
         f"scenes where the slip lasts; in the other {int((~zs).sum())} it stops during the impact and φ1 = 0 (the "
         f"paper does not say)"))
     elem = [cushion.binomial_integral_is_elementary(0, -e, 0.5) for e in (e_der, e_pr)]
-    out["not_elementary"] = (float(elem[0]), (
-        f"Chebyshev's theorem on ∫ (1 + c φ^(−2/(1 + k)))^½ dφ for k = {k:g}: elementary = {elem[0]} (with the printed "
-        f"exponent: {elem[1]}); 0 = the claim holds. It would be elementary for k = 1, 3, 5, … The ₂F₁ form "
-        f"(next row) is not elementary"))
+
+    def nearness(e: float) -> float:  # 1 − 2 × the distance of Chebyshev's exponents to the nearest integer
+        q = [0.5, 1 / -e, 1 / -e + 0.5]  # p, (m + 1)/n, (m + 1)/n + p for ∫ φ^0 (1 + c φ^(−e))^½ dφ
+        return 1.0 - 2.0 * min(abs(x - round(x)) for x in q)
+
+    out["not_elementary"] = (nearness(e_der), (
+        f"Chebyshev's theorem on ∫ φ^m (1 + c φ^n)^p dφ, m = 0, n = −2/(1 + k), p = ½: elementary exactly when p, "
+        f"(m + 1)/n = −(1 + k)/2 or (m + 1)/n + p = −k/2 is an integer, i.e. for an integer k. Shown: 1 − 2 × their "
+        f"least distance to an integer, 1 when elementary; for k = {k:g} it is {nearness(e_der):.4g} (elementary: "
+        f"{elem[0]}), with the printed exponent (1 + k)/2 {nearness(e_pr):.4g} (elementary: {elem[1]})"))
     # l. 487: Résal's small quantity (φ0 − φ)/φ over the figures' scenes (its largest value, at φ = φ1)
     ph0g, ph1g = chi0g - p0g * R, ex.chi1 - ex.p1 * R
     moving = ph1g != 0
     small = np.abs(ph0g - ph1g)[moving] / np.abs(ph1g[moving])
+    # first order: dφ = −j(1 + k)(φ/v) dζ over ζ1 − ζ0 = (1 + ν)a, so (φ0 − φ1)/φ1 ≈ j(1 + k)(1 + ν)a/v0, v0 the
+    # initial slip speed √(φ0² + ψ0²) (not |φ0|); at 30° without side spin, against the exact path
+    first = jj * (1 + k) * (1 + nu) * ag / np.hypot(ph0g, n0g * R)
+    i30 = (int(np.argmin(np.abs(spin))), int(np.argmin(np.abs(theta - math.radians(30)))))
+    exact30 = float(abs(ph0g[i30] - ph1g[i30]) / abs(ph1g[i30]))
+    by_phi0 = float(jj * (1 + k) * (1 + nu) * ag[i30] / abs(ph0g[i30]))
     out["small_quantity"] = (float(np.max(small)), (
         f"largest (φ0 − φ1)/φ1 over the figure's grid (ball rolling into the cushion at {p.speed:g} m/s, incidence "
         f"1°–85°, side spin ±V/R, exact path); it is ≤ j on {np.mean(small <= jj):.1%} of the grid, ≤ 2j on "
         f"{np.mean(small <= 2 * jj):.1%}, median {np.median(small):.2g}; the slip stops (the quantity is "
-        f"infinite) on {np.mean(~moving):.2%}. It is j(1 + k)(1 + ν)a/|φ0| at first order: of order j only where "
-        f"the slip along the cushion is of the order of (1 + k)(1 + ν)a = {(1 + k) * (1 + nu):.1f} a"))
+        f"infinite) on {np.mean(~moving):.2%}. At first order it is j(1 + k)(1 + ν)a/v0, v0 = √(φ0² + ψ0²) the "
+        f"initial slip speed (at incidence 30° without side spin {float(first[i30]):.3g}, exactly {exact30:.3g}, "
+        f"where j(1 + k)(1 + ν)a/|φ0| would give {by_phi0:.4g}): of order j only where the slip speed is of the "
+        f"order of (1 + k)(1 + ν)a = {(1 + k) * (1 + nu):.3g} a or more"))
     # l. 489: the expansion of the power of φ0/φ in (7) to first order in (φ0 − φ)/φ, with the printed exponent,
     # against the power that (6) gives, (φ0/φ)^(2/(1 + k)); the squares the paper neglects are within j²
     x = np.linspace(1e-6, jj, 2001)  # x = (φ0 − φ)/φ, Résal's small quantity, up to j; φ0/φ = 1 + x

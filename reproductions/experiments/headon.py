@@ -6,13 +6,17 @@ slip R ω0 of the topspin makes the ball–ball friction f act even head on (it 
 gives the object ball backspin). Then each ball slides on the cloth until it rolls (§II, ``cloth.slide``): its centre
 changes speed at μg, against the slip u = v − Rω, for t = |u|/((1 + k) μ g), and it ends at v − u/(1 + k).
 
-What is fitted and what is tested (design A): μ is the weighted mean of the two published sliding accelerations
-(§II gives both balls the same |acceleration| μg); the cue ball's spin s is not published: it is inferred from the
-cue ball's slip after the impact, |u1| = (1 + k) a_c t_c (§II: the slip changes (1 + k) times as fast as the centre's
-speed), and e from the object ball's final speed; f cannot be fixed by one collision and is drawn from today's range.
-Every other published scalar is then predicted. The uncertainties are a seeded Monte Carlo: the published standard
-errors as normal errors, every other number uniform over ± half its last printed digit, f from its prior; a
-prediction's interval is its 2.5–97.5 % quantiles, and a row is consistent when the 95 % interval of
+What is fitted and what is tested. μ is the weighted mean of the two published sliding accelerations (§II gives
+both balls the same |acceleration| μg). The cue ball's spin before the impact and the ball–ball f are not published,
+and one collision cannot fix both, so every row the mechanics grade is computed under two readings: (A) the spin s
+inferred from the cue ball's slip after the impact, |u1| = (1 + k) a_c t_c (§II: the slip changes (1 + k) times as
+fast as the centre's speed), e from the object ball's final speed, f drawn from today's range; (B) natural roll
+(s = 1), e and f fitted to both final speeds (``fit_natural_roll``). A row both readings grade alike keeps that
+verdict; a row the reading decides is not-checkable (« a modelling choice »), both outcomes in its note; a row that
+cannot fail (M V, momentum kept by any impact) is not-checkable (« a definition »). The uncertainties are a seeded
+Monte Carlo: the published standard errors as normal errors, every other number uniform over ± half its last
+printed digit (a rounding bound, not a measurement error, and the rows say so), f from its prior in reading A; a
+prediction's interval is its 2.5–97.5 % quantiles, and a reading is consistent when the 95 % interval of
 (predicted − measured) contains 0.
 """
 
@@ -70,10 +74,16 @@ class Published:
         return self.se if self.se is not None else self.digit / math.sqrt(12.0)
 
     @property
+    def rounding_only(self) -> bool:
+        """No error is published: the only uncertainty is the rounding of the last printed digit."""
+        return self.se is None
+
+    @property
     def how_uncertain(self) -> str:
         if self.se is not None:
             return f"± {self.se:g} (published standard error)"
-        return f"± {self.digit / 2:g} (half its last printed digit, uniform; σ = {self.sigma:.2g})"
+        return (f"± {self.digit / 2:g}, a rounding bound (half its last printed digit), not a measurement error: none "
+                f"is published (drawn uniform, σ = {self.sigma:.2g})")
 
     def draw(self, rng: np.random.Generator, n: int) -> np.ndarray:
         if self.se is not None:
@@ -257,6 +267,45 @@ def infer(b: Ball, V: Any, f: Any, mug: Any, a_c: Any, t_c: Any, v_tf: Any) -> t
     return s, e
 
 
+def rolling_speeds(b: Ball, V: Any, s: Any, e: Any, f: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The cue ball's and the object ball's speeds once they roll, §VI then §II: v − (v − Rω)/(1 + k) (the rolling
+    speed does not depend on μ)."""
+    out = after_impact(b, V, s, e, f)
+    return (out["v1"] - (out["v1"] - out["Rw1"]) / (1 + b.k), out["v1p"] - (out["v1p"] - out["Rw1p"]) / (1 + b.k))
+
+
+def fit_natural_roll(b: Ball, V: Any, v_cf: Any, v_tf: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Per draw: e and f such that §VI then §II, the cue ball rolling naturally into the impact (s = 1), give both
+    published final speeds; Newton's method on the two equations, its Jacobian by finite differences (the final
+    speeds are smooth in e and f while the vertical slip lasts the whole impact). Raises ``ValueError`` when a draw
+    does not converge or ends outside 0 ≤ e ≤ 1, f ≥ 0: the reading then has no solution, which the caller must
+    not hide."""
+    V, v_cf, v_tf = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (V, v_cf, v_tf)))
+    one = np.ones_like(V)
+    e, f = np.full_like(V, 0.9), np.full_like(V, 0.05)
+    h = 1e-7
+
+    def residual(e_: np.ndarray, f_: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        c, t = rolling_speeds(b, V, one, e_, f_)
+        return c - v_cf, t - v_tf
+
+    for _ in range(40):
+        r1, r2 = residual(e, f)
+        a1, a2 = residual(e + h, f)
+        c1, c2 = residual(e, f + h)
+        j11, j21, j12, j22 = (a1 - r1) / h, (a2 - r2) / h, (c1 - r1) / h, (c2 - r2) / h
+        det = j11 * j22 - j12 * j21
+        de, df = (j22 * r1 - j12 * r2) / det, (j11 * r2 - j21 * r1) / det
+        e, f = e - de, f - df
+        if float(np.max(np.abs(de))) < 1e-11 and float(np.max(np.abs(df))) < 1e-11:
+            break
+    r1, r2 = residual(e, f)
+    if not (np.all(np.isfinite(e)) and np.all(np.isfinite(f)) and float(np.max(np.abs(r1))) < 1e-9
+            and float(np.max(np.abs(r2))) < 1e-9 and np.all((e >= 0) & (e <= 1) & (f >= 0))):
+        raise ValueError("natural roll: no e and f give both final speeds")
+    return e, f
+
+
 # ---------------------------------------------------------------------------------------------------------------
 # verdicts
 
@@ -291,6 +340,11 @@ class HeadOn:
     mug0: float
     mug_se: float
     chi2: float
+    # reading B: the cue ball rolling naturally into the impact (s = 1), e and f fitted to both final speeds
+    # (None when no e, f give both)
+    e_nat: np.ndarray | None = None
+    f_nat: np.ndarray | None = None
+    pred_nat: dict[str, np.ndarray] | None = None
 
 
 def simulate(p: Params, seed: int) -> HeadOn:
@@ -311,107 +365,257 @@ def simulate(p: Params, seed: int) -> HeadOn:
     s, e = infer(ball, V, f, mug, meas["cue_sliding_acceleration"], meas["cue_sliding_time"],
                  meas["target_final_speed"])
     pred = predict(ball, V, s, e, f, mug)
-    return HeadOn(s, e, f, mug, pred, meas, mug0, float(w.sum() ** -0.5), chi2)
+    try:
+        e_nat, f_nat = fit_natural_roll(ball, V, meas["cue_final_speed"], meas["target_final_speed"])
+    except ValueError:
+        return HeadOn(s, e, f, mug, pred, meas, mug0, float(w.sum() ** -0.5), chi2)
+    pred_nat = predict(ball, V, 1.0, e_nat, f_nat, mug)
+    return HeadOn(s, e, f, mug, pred, meas, mug0, float(w.sum() ** -0.5), chi2, e_nat, f_nat, pred_nat)
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """One reading's outcome for one row: its verdict ('consistent', 'inconsistent', 'fitted' or 'restated': no test
+    of its own), the prediction's median and 95 % interval, the 95 % interval of (predicted − measured), and its
+    words."""
+
+    verdict: str
+    mid: float
+    interval: tuple[float, float]
+    diff: tuple[float, float]
+    text: str
+
+
+def _outcome(pred: Any, meas: Any, unit: str, why: str = "", fitted: bool = False, restated: str = "") -> Outcome:
+    lo, mid, hi = quantiles(pred)
+    verdict, diff = judge(pred, meas)
+    where = f"{mid:.3f} [{lo:.3f}, {hi:.3f}]{(' ' + unit) if unit and unit != '1' else ''}"
+    if fitted:
+        return Outcome("fitted", mid, (lo, hi), diff, f"{where}, fitted{(' (' + why + ')') if why else ''}: it "
+                                                      "tests nothing")
+    if restated:
+        return Outcome("restated", mid, (lo, hi), diff, f"{where}, {restated}: no test of its own")
+    return Outcome(verdict, mid, (lo, hi), diff, f"{where}{(' (' + why + ')') if why else ''}, predicted − measured "
+                                                 f"{_fmt_interval(diff)} (95 %): {verdict}")
+
+
+def _combine(a: Outcome, b: Outcome | None) -> str:
+    """The row's verdict: the readings' common verdict when both test it the same way (or both fitted it), else
+    not-checkable: a choice of ours (which reading) would decide it."""
+    if b is not None and a.verdict == b.verdict and a.verdict in ("consistent", "inconsistent", "fitted"):
+        return a.verdict
+    return "not-checkable"
+
+
+def readings_text(p: Params, h: HeadOn) -> tuple[str, str]:
+    """The two readings of what the article leaves open (the cue ball's spin before the impact, f), in words with
+    their fitted values."""
+    ac, tc = p.get("cue_sliding_acceleration"), p.get("cue_sliding_time")
+    s_q, e_q = quantiles(h.s), quantiles(h.e)
+    a = (f"(A) the cue ball's spin s = {s_q[1]:.2f} [{s_q[0]:.2f}, {s_q[2]:.2f}] inferred from its published "
+         f"{ac.text} {ac.unit} × {tc.text} s, f drawn from today's {p.f_prior[0]:g}–{p.f_prior[1]:g}, e = "
+         f"{e_q[1]:.3f} fitted to the object ball's final speed")
+    if h.e_nat is None or h.f_nat is None:
+        return a, "(B) natural roll into the impact (s = 1): no e and f give both final speeds"
+    en, fn = quantiles(h.e_nat), quantiles(h.f_nat)
+    b = (f"(B) natural roll into the impact (s = 1), e = {en[1]:.3f} [{en[0]:.3f}, {en[2]:.3f}] and f = {fn[1]:.3f} "
+         f"[{fn[0]:.3f}, {fn[2]:.3f}] fitted to both final speeds (their intervals from rounding bounds alone)")
+    return a, b
 
 
 def comparisons(p: Params, h: HeadOn, rng: np.random.Generator
-                ) -> tuple[dict[str, Comparison], dict[str, tuple[float, float]]]:
-    """The rows' comparisons, and for each the 95 % interval of (predicted − measured) that decides its verdict."""
+                ) -> tuple[dict[str, Comparison], dict[str, dict[str, Outcome]]]:
+    """The rows' comparisons, and for each row graded against §VI then §II the outcome of each reading (``A``,
+    ``B``), which the verdicts' figure draws. The cue ball's spin before the impact and f are not published, and
+    one collision cannot fix both: reading A infers the spin from the cue ball's sliding acceleration and time and
+    draws f from today's range, reading B takes natural roll and fits e and f to both final speeds. A row whose
+    verdict the reading decides is not-checkable (« a modelling choice »), with both outcomes in its note."""
     out: dict[str, Comparison] = {}
-    diffs: dict[str, tuple[float, float]] = {}
+    outcomes: dict[str, dict[str, Outcome]] = {}
+    tag_a, tag_b = readings_text(p, h)
+    choice = "a modelling choice: the cue ball's spin before the impact and f are not published, and the reading "\
+             "decides this row"
 
-    def row(q: str, how: str, fitted: bool = False) -> None:
+    def rounding(pub: Published, tests: bool) -> str:
+        if not (pub.rounding_only and tests):
+            return ""
+        return (f"; the published {pub.text} {pub.unit} carries only a rounding bound, ± {pub.digit / 2:g} {pub.unit}, "
+                "not a measurement error: the intervals that decide are the predictions'")
+
+    def graded(q: str, a: Outcome, b: Outcome | None, extra: str = "") -> None:
         pub = p.get(q)
-        lo, mid, hi = quantiles(h.pred[q])
-        verdict, diff = judge(h.pred[q], h.meas[q])
-        if fitted:
-            verdict = "fitted"
-        diffs[q] = diff
-        out[q] = Comparison(pub.value, f"{pub.text} {pub.unit}".strip(), pub.how_uncertain, mid, (lo, hi), verdict,
-                            f"{how}; predicted − measured {_fmt_interval(diff)} (95 %)")
+        outcomes[q] = {"A": a} | ({"B": b} if b is not None else {})
+        verdict = _combine(a, b)
+        b_text = f"{tag_b}: {b.text}" if b is not None else tag_b
+        tests = any(o is not None and o.verdict in ("consistent", "inconsistent") for o in (a, b))
+        both = f"{tag_a}: {a.text}; {b_text}{extra}{rounding(pub, tests)}"
+        if verdict == "not-checkable":
+            out[q] = Comparison(pub.value, f"{pub.text} {pub.unit}".strip(), pub.how_uncertain, None, None, verdict,
+                                f"{choice}. {both}")
+            return
+        assert b is not None
+        out[q] = Comparison(pub.value, f"{pub.text} {pub.unit}".strip(), pub.how_uncertain, a.mid, a.interval,
+                            verdict, f"{verdict} under both readings (the prediction shown is A's). {both}")
 
+    nat = h.pred_nat
+    meas = h.meas
+
+    # one cloth μ (§II): independent of the readings
     ac, at = p.get("cue_sliding_acceleration"), p.get("target_sliding_acceleration")
-    verdict, diff = judge(np.abs(h.meas["target_sliding_acceleration"]), h.meas["cue_sliding_acceleration"])
-    diffs["mu_common"] = diff
-    lo, mid, hi = quantiles(np.abs(h.meas["target_sliding_acceleration"]))
+    verdict, diff = judge(np.abs(meas["target_sliding_acceleration"]), meas["cue_sliding_acceleration"])
+    lo, mid, hi = quantiles(np.abs(meas["target_sliding_acceleration"]))
     from scipy import stats  # only here: the χ² tail
 
     p_value = float(stats.chi2.sf(h.chi2, 1))
+    outcomes["mu_common"] = {"": Outcome(verdict, mid, (lo, hi), diff, "")}
     out["mu_common"] = Comparison(
         ac.value, f"{ac.text} {ac.unit}", ac.how_uncertain, mid, (lo, hi), verdict,
         f"§II gives both balls the same |acceleration| μg, so the cue ball's is predicted by the object ball's "
-        f"{abs(at.value):g} ± {at.sigma:.2g}; predicted − measured {_fmt_interval(diff)} (95 %); one μ for both: χ² = "
-        f"{h.chi2:.1f} (1 dof), p = {p_value:.1g}; their weighted mean μg = {h.mug0:.3f} ± {h.mug_se:.3f} m/s² "
-        f"(μ = {h.mug0 / p.g:.3f}) is the cloth's μ of every other row")
-    row("cue_sliding_time", "§VI then §II; the spin s was inferred from a_c × t_c, so with one μ this time is the "
-                            "published t_c × a_c/μg: it fails with mu_common")
-    row("target_sliding_time", "§VI then §II with the common μ")
-    row("cue_final_speed", "§VI then §II: v1 − u1/(1 + k)")
-    row("target_final_speed", "e was solved per draw so that §VI then §II give this speed", fitted=True)
+        f"{abs(at.value):g} ± {at.sigma:.2g} (both with published standard errors); predicted − measured "
+        f"{_fmt_interval(diff)} (95 %); one μ for both: χ² = {h.chi2:.1f} (1 dof), p = {p_value:.1g}; their weighted "
+        f"mean μg = {h.mug0:.3f} ± {h.mug_se:.3f} m/s² (μ = {h.mug0 / p.g:.3f}) is the cloth's μ of every other row, "
+        "under both readings of the cue ball's spin")
+
+    def nat_outcome(q: str, **kw: Any) -> Outcome | None:
+        return None if nat is None else _outcome(nat[q], meas[q], p.get(q).unit, **kw)
+
+    a_t = _outcome(h.pred["cue_sliding_time"], meas["cue_sliding_time"], "s",
+                   restated="the published t_c × a_c/μg (the spin was inferred from a_c t_c, and §II's slip changes "
+                            "at (1 + k) μg): row mu_common restated")
+    graded("cue_sliding_time", a_t, nat_outcome("cue_sliding_time"))
+    graded("target_sliding_time",
+           _outcome(h.pred["target_sliding_time"], meas["target_sliding_time"], "s"),
+           nat_outcome("target_sliding_time"))
+    graded("cue_final_speed", _outcome(h.pred["cue_final_speed"], meas["cue_final_speed"], "m/s"),
+           nat_outcome("cue_final_speed", fitted=True, why="with the object ball's, by e and f"),
+           "" if h.f_nat is None else
+           f"; B's f lies {'above' if quantiles(h.f_nat)[0] > p.f_prior[1] else 'against'} today's "
+           f"{p.f_prior[0]:g}–{p.f_prior[1]:g}")
+    graded("target_final_speed",
+           _outcome(h.pred["target_final_speed"], meas["target_final_speed"], "m/s", fitted=True, why="by e"),
+           nat_outcome("target_final_speed", fitted=True, why="with the cue ball's, by e and f"))
+
+    # e against today's: the e each reading needs
     e_mod = rng.uniform(p.e_modern[0], p.e_modern[1], h.e.size)
-    verdict, diff = judge(h.e, e_mod)
-    diffs["e_vs_modern"] = diff
-    lo, mid, hi = quantiles(h.e)
     lo_n, mid_n, hi_n = quantiles(h.pred["normal_e"])
+    e_a = _outcome(h.e, e_mod, "1", why=f"the impact's ratio of normal velocities {mid_n:.3f} [{lo_n:.3f}, "
+                                       f"{hi_n:.3f}]")
+    e_b = None
+    if nat is not None and h.e_nat is not None:
+        lo_b, mid_b, hi_b = quantiles(nat["normal_e"])
+        e_b = _outcome(h.e_nat, e_mod, "1", why=f"normal ratio {mid_b:.3f} [{lo_b:.3f}, {hi_b:.3f}]")
+    outcomes["e_vs_modern"] = {"A": e_a} | ({"B": e_b} if e_b is not None else {})
+    verdict = _combine(e_a, e_b)
+    today = f"{p.e_modern[0]:g}–{p.e_modern[1]:g} (today's ball–ball e)"
+    words = (f"the e the object ball's final speed needs (law (6) with ε = (1 − e)/(1 + e)) against today's range, "
+             f"drawn uniformly: {tag_a}: "
+             f"{e_a.text}; " + (f"{tag_b}: {e_b.text}" if e_b is not None else tag_b))
     out["e_vs_modern"] = Comparison(
-        0.5 * (p.e_modern[0] + p.e_modern[1]), f"{p.e_modern[0]:g}–{p.e_modern[1]:g} (today's ball–ball e)",
-        "the range, drawn uniformly", mid, (lo, hi), verdict,
-        f"the e the object ball's final speed needs (law (6) with ε = (1 − e)/(1 + e)); the impact's ratio of normal "
-        f"velocities is {mid_n:.3f} [{lo_n:.3f}, {hi_n:.3f}]; e − today's {_fmt_interval(diff, 3)} (95 %)")
-    row("momentum_before", "M V, with the published mass and incident speed")
-    row("momentum_after", "M (v_cf + v_tf), both balls rolling, §VI then §II (momentum is kept in the impact, the "
-                          "cloth's friction changes it while they slide)")
-    row("kinetic_energy_loss", "1 − (kinetic energy once both roll)/(before the impact, with the cue ball's inferred "
-                               "topspin); at the instant after the impact the loss is "
-                               f"{quantiles(h.pred['kinetic_energy_loss_impact'])[1]:.3f}")
+        0.5 * (p.e_modern[0] + p.e_modern[1]), today, "the range, drawn uniformly",
+        None if verdict == "not-checkable" else e_a.mid, None if verdict == "not-checkable" else e_a.interval,
+        verdict, (f"{choice}. " if verdict == "not-checkable" else f"{verdict} under both readings (the prediction "
+                                                                   "shown is A's): ") + words)
+
+    # what the published numbers define, not what the mechanics predict
+    M, V = p.get("ball_mass"), p.get("incident_speed")
+    mb = p.get("momentum_before")
+    out["momentum_before"] = Comparison(
+        mb.value, f"{mb.text} {mb.unit}", mb.how_uncertain, None, None, "not-checkable",
+        f"a definition: the momentum before is M V of the published mass and incident speed, {M.text} × {V.text} = "
+        f"{M.value * V.value:.4f} {mb.unit}, the published {mb.text} to its last digit (a rounding bound); no "
+        "mechanics of the paper's enters it")
+    vcf, vtf = p.get("cue_final_speed"), p.get("target_final_speed")
+    ma = p.get("momentum_after")
+    after = M.value * (vcf.value + vtf.value)
+
+    def readings_of(q: str, unit: str) -> str:
+        a = quantiles(h.pred[q])
+        s = f"(A) {a[1]:.3f} [{a[0]:.3f}, {a[2]:.3f}]{unit}"
+        if nat is not None:
+            b = quantiles(nat[q])
+            s += f", (B) {b[1]:.3f} [{b[0]:.3f}, {b[2]:.3f}]{unit}"
+        return s
+
+    out["momentum_after"] = Comparison(
+        ma.value, f"{ma.text} {ma.unit}", ma.how_uncertain, None, None, "not-checkable",
+        f"a modelling choice: what the published momentum after measures is ours to guess, and its own final speeds "
+        f"rule out the stated one: once both roll it is M (v_cf + v_tf) = {M.text} × ({vcf.text} + {vtf.text}) = "
+        f"{after:.3f} {ma.unit}, not {ma.text}. Read as once both roll, §VI then §II give "
+        f"{readings_of('momentum_after', ' ' + ma.unit)}; read as right after the impact, §I keeps M V = "
+        f"{M.value * V.value:.3f} {ma.unit} whatever e and f")
+    ke = p.get("kinetic_energy_loss")
+    left = (vcf.value**2 + vtf.value**2) / V.value**2
+    out["kinetic_energy_loss"] = Comparison(
+        ke.value, f"{ke.text}", ke.how_uncertain, None, None, "not-checkable",
+        f"a modelling choice: what the published loss measures is ours to guess, and its own speeds rule out the "
+        f"stated one: counting translation only, or with the cue ball rolling into the impact (s ≥ 1, rolling after), "
+        f"the published final speeds leave at most ({vcf.text}² + {vtf.text}²)/{V.text}² = {left:.2f} of the energy "
+        f"before, a loss of {1 - left:.2f} or more, not {ke.text}. Read as once both roll, §VI then §II give a loss of "
+        f"{readings_of('kinetic_energy_loss', '')}; read as at the instant after the impact, "
+        f"{readings_of('kinetic_energy_loss_impact', '')}")
     # the data alone: the speeds right after the impact, from §II's kinematics, must keep momentum (§I)
-    V = h.meas["incident_speed"]
-    v1 = h.meas["cue_final_speed"] - h.meas["cue_sliding_acceleration"] * h.meas["cue_sliding_time"]
-    v1p = h.meas["target_final_speed"] - h.meas["target_sliding_acceleration"] * h.meas["target_sliding_time"]
-    ratio = (v1 + v1p) / V
+    v1 = meas["cue_final_speed"] - meas["cue_sliding_acceleration"] * meas["cue_sliding_time"]
+    v1p = meas["target_final_speed"] - meas["target_sliding_acceleration"] * meas["target_sliding_time"]
+    ratio = (v1 + v1p) / meas["incident_speed"]
     r_mid = quantiles(ratio)[1]
     sd = float(np.std(ratio))
-    verdict, diff = judge(np.ones_like(ratio), ratio)
-    diffs["impact_momentum"] = diff
+    _, diff = judge(np.ones_like(ratio), ratio)
     out["impact_momentum"] = Comparison(
         r_mid, f"(v1 + v1′)/V = {r_mid:.3f} from the data", f"± {sd:.3f} (propagated from the published values)",
-        1.0, (1.0, 1.0), verdict,
-        f"data only: v1 = v_cf − a_c t_c = {float(np.median(v1)):+.3f} m/s and v1′ = v_tf − a_t t_t = "
-        f"{float(np.median(v1p)):.3f} m/s by §II's uniform acceleration; an impact keeps momentum (§I), so "
-        f"(v1 + v1′)/V = 1 whatever e and f; 1 − measured {_fmt_interval(diff, 3)} (95 %), "
-        f"{(1 - r_mid) / sd:.1f} σ")
-    return out, diffs
+        1.0, None, "not-checkable",
+        f"a definition: an impact keeps momentum whatever e and f (§I: its impulses are internal), so the prediction "
+        f"1 cannot fail and the row grades the data, not the mechanics: v1 = v_cf − a_c t_c = "
+        f"{float(np.median(v1)):+.3f} m/s and v1′ = v_tf − a_t t_t = {float(np.median(v1p)):.3f} m/s by §II's uniform "
+        f"acceleration give (v1 + v1′)/V = {r_mid:.3f}, 1 − it {_fmt_interval(diff, 3)} (95 %), {(1 - r_mid) / sd:.1f} "
+        "σ: the published accelerations, times and final speeds do not keep momentum through the impact")
+    return out, outcomes
 
 
 def run(exp: Experiment) -> Reproduction:
     p: Params = exp.params
     h = simulate(p, exp.seed)
-    comps, diffs = comparisons(p, h, np.random.default_rng(exp.seed + 1))
+    comps, outcomes = comparisons(p, h, np.random.default_rng(exp.seed + 1))
     s_q, e_q, f_q = quantiles(h.s), quantiles(h.e), quantiles(h.f)
     a, b_, c = p.friction_law
     slip = s_q[1] * p.get("incident_speed").value
-    fits = (
+    fits = [
         FitRow("design-a.mu", "μ (ball–cloth)", h.mug0 / p.g, h.mug_se / p.g,
                ((h.mug0 - 1.96 * h.mug_se) / p.g, (h.mug0 + 1.96 * h.mug_se) / p.g),
                "weighted mean of the two published sliding accelerations (§II: |a| = μg)", True,
-               f"the two accelerations disagree (χ² = {h.chi2:.1f}, 1 dof): see row mu_common"),
-        FitRow("design-a.s", "s = Rω0/V, the cue ball's topspin before the impact", s_q[1], float(np.std(h.s)),
-               (s_q[0], s_q[2]), "inferred per draw from the cue ball's slip after the impact, (1 + k) a_c t_c", True,
-               "not published: inferred from the cue ball's sliding acceleration and time (s = 1: natural roll)"),
-        FitRow("design-a.e", "e (ball–ball, law (6) with ε = ε′ = (1 − e)/(1 + e))", e_q[1], float(np.std(h.e)),
-               (e_q[0], e_q[2]), "solved per draw so that §VI then §II give the object ball's final speed", True,
+               f"the two accelerations disagree (χ² = {h.chi2:.1f}, 1 dof): see row mu_common; both readings use it"),
+        FitRow("design-a.s", "s = Rω0/V, the cue ball's topspin before the impact (reading A)", s_q[1],
+               float(np.std(h.s)), (s_q[0], s_q[2]),
+               "inferred per draw from the cue ball's slip after the impact, (1 + k) a_c t_c", True,
+               "not published: reading A infers it from the cue ball's sliding acceleration and time; reading B "
+               "takes natural roll, s = 1"),
+        FitRow("design-a.e", "e (ball–ball, law (6) with ε = ε′ = (1 − e)/(1 + e)), reading A", e_q[1],
+               float(np.std(h.e)), (e_q[0], e_q[2]),
+               "solved per draw so that §VI then §II give the object ball's final speed", True,
                f"today's {p.e_modern[0]:g}–{p.e_modern[1]:g}: see row e_vs_modern"),
-        FitRow("prior.f", "f (ball–ball)", None, None, (None, None), "not fitted: drawn uniformly from today's range",
-               False, f"one head-on collision cannot fix f; today's μ(v) at the cue ball's vertical slip Rω0 ≈ "
-                      f"{slip:.2f} m/s gives {a + b_ * math.exp(-c * slip):.3f}", family_range=p.f_prior),
-    )
-    modern = modern_rows(exp.modern, {"e_bb": (e_q[1], "e the object ball's final speed needs"),
+        FitRow("prior.f", "f (ball–ball), reading A", None, None, (None, None),
+               "not fitted: drawn uniformly from today's range", False,
+               f"one head-on collision cannot fix f with the spin; today's μ(v) at the cue ball's vertical slip Rω0 ≈ "
+               f"{slip:.2f} m/s gives {a + b_ * math.exp(-c * slip):.3f}", family_range=p.f_prior),
+    ]
+    if h.e_nat is not None and h.f_nat is not None:
+        en, fn = quantiles(h.e_nat), quantiles(h.f_nat)
+        fits += [
+            FitRow("natural-roll.e", "e (ball–ball), reading B: natural roll", en[1], float(np.std(h.e_nat)),
+                   (en[0], en[2]), "solved per draw, with f, so that §VI then §II give both final speeds (s = 1)",
+                   True, f"today's {p.e_modern[0]:g}–{p.e_modern[1]:g}: see row e_vs_modern"),
+            FitRow("natural-roll.f", "f (ball–ball), reading B: natural roll", fn[1], float(np.std(h.f_nat)),
+                   (fn[0], fn[2]), "solved per draw, with e, so that §VI then §II give both final speeds (s = 1)",
+                   True, f"today's {p.f_prior[0]:g}–{p.f_prior[1]:g} (modern-values.csv mu_bb)"),
+        ]
+    e_b = "" if h.e_nat is None else f" (reading A; natural roll, B: {quantiles(h.e_nat)[1]:.3f})"
+    f_b = "" if h.f_nat is None else f" (natural roll, B, fits {quantiles(h.f_nat)[1]:.3f})"
+    modern = modern_rows(exp.modern, {"e_bb": (e_q[1], "e the object ball's final speed needs" + e_b),
                                       "mu_s": (h.mug0 / p.g, "μ from the two sliding accelerations"),
-                                      "mu_bb": (f_q[1], "f: not fitted, today's range drawn")})
-    figures = (_figure_speeds(p, h), _figure_verdicts(comps, diffs, exp))
+                                      "mu_bb": (f_q[1], "f: not fitted in reading A, today's range drawn" + f_b)})
+    figures = (_figure_speeds(p, h), _figure_verdicts(outcomes, comps, exp))
     note = (f"Monte Carlo of {p.draws} draws, seed {exp.seed}: published standard errors normal, other numbers uniform "
-            "over ± half their last digit, f uniform over today's range")
-    return Reproduction(exp, (), fits, figures, modern, data_note=note,
+            "over ± half their last digit (rounding bounds), f uniform over today's range in reading A")
+    return Reproduction(exp, (), tuple(fits), figures, modern, data_note=note,
                         measurements=measurement_rows(exp, comps))
 
 
@@ -425,68 +629,95 @@ def _figure_speeds(p: Params, h: HeadOn) -> FigureSpec:
     t = np.linspace(0.0, t_end, 126)
     layers = []
     z = np.zeros_like(h.s)
+    gap = {}
     for name, v, Rw, colour, who in (("cue", "v1", "Rw1", "C0", "cue ball"),
                                      ("target", "v1p", "Rw1p", "C3", "object ball")):
         _, _, vx, _ = cloth.state_at(t, h.pred[v], z, z, h.pred[Rw] / ball.R, R=ball.R, k=ball.k, f=h.mug / ball.g,
                                      g=ball.g)
         lo, mid, hi = np.percentile(vx, [2.5, 50.0, 97.5], axis=0)
         layers.append(layer("band", t, lo, hi, label="", color=colour))
-        layers.append(layer("line", t, mid, label=f"{who}: §VI then §II (median, 95 % band)", color=colour))
+        layers.append(layer("line", t, mid, label=f"{who}: reading A (spin from its acceleration), median, 95 % band",
+                            color=colour))
+        if h.pred_nat is not None:
+            _, _, vb, _ = cloth.state_at(t, h.pred_nat[v], z, z, h.pred_nat[Rw] / ball.R, R=ball.R, k=ball.k,
+                                         f=h.mug / ball.g, g=ball.g)
+            layers.append(layer("line", t, np.percentile(vb, 50.0, axis=0),
+                                label=f"{who}: reading B (natural roll, e and f fitted), median", color=colour,
+                                style=":"))
         tp, vf, a = (p.get(f"{name}_sliding_time"), p.get(f"{name}_final_speed"),
                      p.get(f"{name}_sliding_acceleration"))
+        gap[name] = quantiles(h.pred[f"{name}_final_speed"])[1] - vf.value
         layers.append(layer("line", [0.0, tp.value, t_end], [vf.value - a.value * tp.value, vf.value, vf.value],
                             label=f"{who}: published slope {a.value:g} ± {a.sigma:.2g} m/s², time, final speed",
                             color=colour, style="--"))
         layers.append(layer("points", [tp.value], [vf.value], label="", color=colour, marker="s"))
+    caption = f"Derby & Fuller 1999; A: s = {quantiles(h.s)[1]:.2f}, e = {quantiles(h.e)[1]:.3f}, f drawn"
+    b_words = ""
+    if h.e_nat is not None and h.f_nat is not None and h.pred_nat is not None:
+        caption += f"; B: s = 1, e = {quantiles(h.e_nat)[1]:.3f}, f = {quantiles(h.f_nat)[1]:.3f}"
+        b_words = (f" Dotted, reading B: natural roll into the impact, e and f fitted to both final speeds; both balls "
+                   f"end on their published speeds by construction, after sliding "
+                   f"{quantiles(h.pred_nat['cue_sliding_time'])[1]:.3f} s and "
+                   f"{quantiles(h.pred_nat['target_sliding_time'])[1]:.3f} s.")
     return FigureSpec(
-        "head-on-speeds", "Speeds of the two balls after a head-on collision (§VI then §II)",
+        "head-on-speeds", "Speeds after a head-on collision (§VI then §II), two readings",
         "time after the impact (s)", "speed of the centre (m/s)", tuple(layers), (0.0, t_end), None,
-        caption=f"Derby & Fuller 1999; μ, s and e fitted (s = {quantiles(h.s)[1]:.2f}, "
-                f"e = {quantiles(h.e)[1]:.3f})",
+        caption=caption,
         reading=(
-            "The speed of each ball's centre after the impact: solid, §VI's impact then §II's sliding until the ball "
-            "rolls, with its 95 % band; dashed, the published final speed (square, at the published sliding time) "
-            "and the published acceleration extended back to the impact. The object ball's dashed line falls in its "
-            "band; the cue ball's starts below zero (the data put it moving backwards just after a head-on hit) and "
-            "ends 0.15 m/s under the prediction."),
+            "The speed of each ball's centre after the impact: dashed, the published final speed (square, at the "
+            "published sliding time) and the published acceleration extended back to the impact (the cue ball's "
+            "starts below zero). Solid, reading A: the cue ball's spin inferred from its published acceleration and "
+            f"time, f drawn from today's range, e fitted to the object ball; the cue ball ends {gap['cue']:.2f} m/s "
+            f"above its published speed." + b_words + " Which ball fits is the reading's doing, not the paper's."),
         legend="below")
 
 
 _SHORT = {"mu_common": "cue acceleration (one μ)", "cue_sliding_time": "cue sliding time",
           "target_sliding_time": "object sliding time", "cue_final_speed": "cue final speed",
-          "target_final_speed": "object final speed (fitted)", "e_vs_modern": "e against today's",
-          "momentum_before": "momentum before", "momentum_after": "momentum after",
-          "kinetic_energy_loss": "energy lost", "impact_momentum": "momentum in the impact (data)"}
+          "target_final_speed": "object final speed", "e_vs_modern": "e against today's"}
+_READING = {"": ("both readings", "0.3"), "A": ("A: spin from the cue ball's acceleration, f drawn", "C0"),
+            "B": ("B: natural roll, e and f fitted to both final speeds", "C1")}
 
 
-def _figure_verdicts(comps: dict[str, Comparison], diffs: dict[str, tuple[float, float]],
+def _figure_verdicts(outcomes: dict[str, dict[str, Outcome]], comps: dict[str, Comparison],
                      exp: Experiment) -> FigureSpec:
-    ids = [m.computed for m in exp.measured if comps[m.computed].measured]
+    ids = [m.computed for m in exp.measured if m.computed in outcomes]
     layers = []
     labels = []
     seen: set[str] = set()
+    offset = {"": 0.0, "A": 0.15, "B": -0.15}
     for i, q in enumerate(ids):
-        c = comps[q]
-        assert c.measured is not None and c.predicted is not None and c.interval is not None
         y = len(ids) - 1 - i
-        d = diffs[q]
-        rel = [x / abs(c.measured) for x in (d[0], c.predicted - c.measured, d[1])]
-        colour = {"consistent": "C2", "inconsistent": "C3"}.get(c.verdict, "0.5")
-        label = "" if c.verdict in seen else c.verdict
-        seen.add(c.verdict)
-        layers.append(layer("line", [rel[0], rel[2]], [y, y], color=colour))
-        layers.append(layer("points", [rel[1]], [y], label=label, color=colour))
-        labels.append(_SHORT.get(q, q))
+        scale = abs(comps[q].measured or 1.0)
+        for key, o in outcomes[q].items():
+            name, colour = _READING[key]
+            rel = [o.diff[0] / scale, 0.5 * (o.diff[0] + o.diff[1]) / scale, o.diff[1] / scale]
+            yy = y + offset[key]
+            fitted = o.verdict == "fitted"
+            tested = o.verdict in ("consistent", "inconsistent")
+            label = "" if key in seen or not tested else name  # the key shows the reading's round marker
+            if tested:
+                seen.add(key)
+            if not fitted:
+                layers.append(layer("line", [rel[0], rel[2]], [yy, yy], color=colour))
+            layers.append(layer("points", [rel[1]], [yy], label=label, color=colour,
+                                marker="x" if fitted else ("s" if o.verdict == "restated" else "o")))
+        labels.append(_SHORT.get(q, q) + f" ({comps[q].verdict})")
     layers.append(layer("line", [0.0, 0.0], [-0.6, len(ids) - 0.4], label="prediction = measurement", color="0.3",
                         style=":"))
+    consistent = {k: [_SHORT.get(q, q) for q in ids if outcomes[q].get(k) and outcomes[q][k].verdict == "consistent"]
+                  for k in ("A", "B")}
     return FigureSpec(
-        "head-on-verdicts", "Each published scalar against §VI then §II",
-        "(predicted − measured)/measured, with its 95 % interval", "",
+        "head-on-verdicts", "Each published scalar against §VI then §II, two readings",
+        "(predicted − measured)/measured, 95 % interval", "",
         tuple(layers), None, (-0.6, len(ids) - 0.4), yticklabels=tuple(reversed(labels)),
         reading=(
             "For each published number, how far the prediction of Résal's mechanics lies from it, as a fraction of "
             "it, with the 95 % interval of the difference (the prediction's and the measurement's uncertainties "
-            "both counted): a bar that crosses the dotted zero line is consistent. Only the object ball's sliding "
-            "time and the momentum before do; the object ball's final speed sits on it by construction (e was "
-            "fitted to it)."),
+            "both counted; numbers without a published error carry only a rounding bound): a bar that crosses the "
+            "dotted zero line is consistent; a cross sits on zero by construction (fitted); a square restates "
+            "another row. Blue, reading A (the cue ball's spin inferred from its acceleration): consistent "
+            f"{', '.join(consistent['A']) or 'nowhere'}; orange, reading B (natural roll, e and f fitted to both "
+            f"final speeds): consistent {', '.join(consistent['B']) or 'nowhere'}. A row the reading decides is "
+            "not-checkable."),
         legend="below")

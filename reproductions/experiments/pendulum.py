@@ -215,9 +215,13 @@ def run(exp: Experiment) -> Reproduction:
         checks["law6_vs_integration"], "largest |M(V0² − V1²) + M′(V0′² − V1′²) − εM(V0 − V1)² − ε′M′(V0′ − V1′)²| / "
                                        "initial vis viva over 16 random scenes integrated at Newton's e of (7)")
     computed |= {
-        "n_equations": Computed(float(fit.identifiability.rank),
-                                f"rank of the Jacobian of eqs (8) in (ε, ε′): singular values "
-                                f"{', '.join(f'{s:.3g}' for s in fit.identifiability.singular_values)}"),
+        "n_equations": Computed(
+            abs(D - D_p) / D_p,
+            f"relative difference of D = M′(1 + ε) + M(1 + ε′) by the first and by the second of eqs (8): one "
+            f"result, D/M′ = {comb:.6g}, as the ratios keep momentum (row momentum_balance)",
+            lambda printed: f"the two eqs (8) give D/M′ = {D / Mp:.6g} and {comb:.6g}: not one result but two, "
+                            "and no (ε, ε′) satisfies both; the measured ratios do not keep momentum "
+                            f"(imbalance {momentum:.3g} of M V0)"),
         "combination": Computed(comb, f"2(M/M′)/(V1′/V0) from the second of eqs (8); the first gives "
                                       f"{D / Mp:.12g}, the same because the data conserve momentum"),
         "momentum_balance": Computed(momentum, "(M V1 + M′ V1′ − M V0)/(M V0) of the measured ratios"),
@@ -230,17 +234,16 @@ def run(exp: Experiment) -> Reproduction:
                              lambda printed: "eqs (8) depend on (ε, ε′) only through D = M′(1 + ε) + M(1 + ε′), and "
                                              "data that keep momentum make the two equations one: a single "
                                              "experiment never gives two distinct equations (two mass ratios would)"),
-        "speed_range": Computed(None, "a measured range"),
-        "mass_ratio": Computed(None, "a datum of the experiment: M′/M is its input (params.struck, params.striker)"),
+        "speed_range": Computed(None, "a measurement: the range of Coriolis's impact speeds"),
+        "mass_ratio": Computed(None, "a measurement: M′/M, an input (params.struck, params.striker)"),
         "eps_given_epsp": Computed(
             eps_given_epsp,
             f"n°5 justifies ε = 0 by a ball keeping its shape, but in n°5's notation ε belongs to the striking "
             f"body M, the {sb}; applied to the {st} (ε′ = {p.epsp_premise:g}) the premise gives ε = "
             f"{eps_given_epsp:.4f} for the {sb}. The data allow every pair on ε + {mu:g}ε′ = {comb - 1 - mu:.4f}",
-            lambda printed: f"the paper sets ε = {printed:g}, but ε is the striking {sb}'s coefficient (n°3's "
-                            f"notation) while the premise (a ball keeps its shape) concerns the {st}: applied to it "
-                            f"(ε′ = {p.epsp_premise:g}) it gives ε = {eps_given_epsp:.4f} for the {sb}; ε = 0 is a "
-                            "free choice on the data's line, not a consequence of the premise"),
+            lambda printed: f"a slip of the original: ε is the striking {sb}'s coefficient (n°3), but the premise "
+                            f"(a ball keeps its shape) concerns the {st}'s ε′; with ε′ = {p.epsp_premise:g} the data "
+                            f"give the {sb} ε = {eps_given_epsp:.4f} (corrected value), not {printed:g}"),
         "swapped_struck_ratio": Computed(float(swapped.V1p), "eq. (8) with the coefficients swapped as in §VII",
                                          why_swapped),
     }

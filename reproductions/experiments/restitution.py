@@ -8,9 +8,12 @@ n°5 (the law of ε, eq. (9)) and §VI n°13 (two balls on the cloth).
 Separation angle. For smooth equal balls (f = 0) with ε = ε′, the object ball leaves along the line of centres with
 v cos ψ (1 + e)/2 and the cue ball keeps v sin ψ across it and v cos ψ (1 − e)/2 along it, so the angle between the
 two directions is θ = 90° − atan[(1 − e)/(2 tan ψ)] (``theta_smooth``; checked against ``two_spheres(f = 0)``).
-Over random shots the impact parameter b = 2R sin ψ is uniform, so u = sin ψ is uniform on [0, 1):
-⟨θ⟩_b = ∫₀¹ θ(arcsin u) du, by Gauss–Legendre. With friction, θ comes from §VI's ``two_spheres(on_cloth=True)``, the
-cue ball rolling naturally into the impact.
+With friction, θ comes from §VI's ``two_spheres(on_cloth=True)``, the cue ball rolling naturally into the impact.
+The published mean over shots depends on how the shots were spread, which the article does not give: the mean is
+computed over each spread of the config's ``shots`` (the impact parameter b = 2R sin ψ uniform, i.e. u = sin ψ
+uniform, or the cut angle ψ uniform, over a range of ψ), by Gauss–Legendre, and the row is not-checkable: a choice
+of ours, the spread, would decide it. The rounding of a published number with no published error (half its last
+printed digit) is a rounding bound, not a measurement error, and every row that rests on one says so.
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ import numpy as np
 
 from ..config import Experiment, Node
 from ..mechanics import impact, spheres
-from .base import Comparison, FigureSpec, Reproduction, layer, measurement_rows, modern_rows
+from .base import Comparison, FigureSpec, Reproduction, TableSpec, layer, measurement_rows, modern_rows
 from .headon import Published, judge, quantiles, read_published
 
 QUANTITIES = ("eps_cushion_low", "eps_cushion_all", "eps_constant", "eps_ball_ball", "contact_time",
@@ -36,6 +39,25 @@ REQUIRED = ("ball_mass", "ball_diameter", "cushion_restitution_below_1.8_mps", "
             "transverse_momentum_deficit")
 MAX_NODES = 2000
 MAX_DRAWS = 20_000
+
+
+SPREADS = ("impact_parameter", "cut_angle")
+MAX_SPREADS = 10
+
+
+@dataclass(frozen=True)
+class Spread:
+    """A spread of shots: the impact parameter b = 2R sin ψ uniform (every cut equally likely across the ball's
+    width) or the cut angle ψ uniform, over ψ from ``lo_deg`` to ``hi_deg``."""
+
+    kind: str
+    lo_deg: float
+    hi_deg: float
+
+    @property
+    def label(self) -> str:
+        what = "impact parameter" if self.kind == "impact_parameter" else "cut angle"
+        return f"{what} uniform over ψ {self.lo_deg:g}–{self.hi_deg:g}°"
 
 
 @dataclass(frozen=True)
@@ -53,6 +75,7 @@ class Params:
     draws: int
     cushion_law: tuple[float, float, float]  # today's e(v) = a + b v + c v² of the cushion (Han 2005), for the figure
     cushion_law_vmax: float
+    spreads: tuple[Spread, ...] = ()  # the spreads of shots the mean separation angle is computed over
 
     def get(self, name: str) -> Published:
         return next(p for p in self.published if p.name == name)
@@ -79,9 +102,20 @@ def parse(node: Node, base: Path) -> Params:
     if len(law) != 3:
         raise node.fail(f"'{node.path}.cushion_law' must have exactly three coefficients a, b, c")
     vmax = node.number("cushion_law_vmax", "a speed in m/s", lo=0.0, lo_open=True)
+    spreads = []
+    for sp in node.children("shots"):
+        kind = sp.string("spread", choices=SPREADS)
+        psi = sp.number_list("psi_deg", "two cut angles [low, high] in degrees")
+        if len(psi) != 2 or not 0.0 <= psi[0] < psi[1] <= 90.0:
+            raise sp.fail(f"'{sp.path}.psi_deg' must be [low, high] with 0 ≤ low < high ≤ 90, got {list(psi)}",
+                          sp._mapping()["psi_deg"])
+        sp.done()
+        spreads.append(Spread(kind, psi[0], psi[1]))
+    if not 1 <= len(spreads) <= MAX_SPREADS:
+        raise node.fail(f"'{node.path}.shots' must list 1 to {MAX_SPREADS} spreads of shots, got {len(spreads)}")
     node.done()
     return Params(data, tuple(published.values()), k, g, split, ratio, marble, (fr[0], fr[1]), f_typ, nodes, draws,
-                  (law[0], law[1], law[2]), vmax)
+                  (law[0], law[1], law[2]), vmax, tuple(spreads))
 
 
 def eps_of(e: object) -> np.ndarray:
@@ -143,6 +177,29 @@ def mean_over_b(values_of_psi: object, nodes: int) -> float:
     return float(0.5 * np.sum(w * values_of_psi(np.arcsin(u))))  # type: ignore[operator]
 
 
+def spread_nodes(spread: Spread, nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """The cut angles ψ (radians) and weights (summing to 1) of the mean over a spread of shots: Gauss–Legendre in
+    u = sin ψ (impact parameter uniform) or in ψ (cut angle uniform) over the spread's range."""
+    x, w = _gauss(nodes)
+    a, b = math.radians(spread.lo_deg), math.radians(spread.hi_deg)
+    t = 0.5 * (x + 1)
+    if spread.kind == "impact_parameter":
+        psi = np.arcsin(math.sin(a) + (math.sin(b) - math.sin(a)) * t)
+    else:
+        psi = a + (b - a) * t
+    return psi, 0.5 * w
+
+
+def spread_means(p: Params, e: float, fs: np.ndarray) -> np.ndarray:
+    """⟨θ⟩ of §VI over each spread of shots (rows) at each f of ``fs`` (columns), the cue ball rolling."""
+    R, M = p.get("ball_diameter").value / 2, p.get("ball_mass").value
+    out = np.empty((len(p.spreads), fs.size))
+    for i, sp in enumerate(p.spreads):
+        psi, w = spread_nodes(sp, p.nodes)
+        out[i] = theta_spheres(psi[None, :], e, fs[:, None], R, M, p.k) @ w
+    return out
+
+
 def _b_means(p: Params, e: float, fs: np.ndarray) -> np.ndarray:
     """⟨θ⟩_b for each f, one batched §VI call over the nodes × frictions."""
     R, M = p.get("ball_diameter").value / 2, p.get("ball_mass").value
@@ -187,6 +244,8 @@ class Separation:
     e_needed: float
     psi_smooth: float
     psi_typical: float
+    table_fs: np.ndarray  # the frictions of ``table``'s columns: 0 (smooth), then f_range and f_typical
+    table: np.ndarray  # ⟨θ⟩ over each spread of shots (rows) at each f of table_fs
 
 
 def separation(p: Params) -> Separation:
@@ -196,7 +255,22 @@ def separation(p: Params) -> Separation:
     means = _b_means(p, e, fs)
     smooth = mean_over_b(lambda s: theta_smooth(s, e), p.nodes)
     psi = _psi_from(p, e, np.array([0.0, p.f_typical]), target)
-    return Separation(e, fs, means, smooth, _bisect_e(p, target), float(psi[0]), float(psi[1]))
+    table_fs = np.array(sorted({0.0, *fs.tolist()}))
+    return Separation(e, fs, means, smooth, _bisect_e(p, target), float(psi[0]), float(psi[1]), table_fs,
+                      spread_means(p, e, table_fs))
+
+
+def _rounding_words(half: float, what: str = "e to ± half its last printed digit") -> str:
+    return f"± {half:.1g}, a rounding bound ({what}), not a measurement error: none is published"
+
+
+def separation_words(p: Params, sep: Separation) -> str:
+    """The mean separation angle of §VI over each spread of shots, in words: the prediction as a function of the
+    spread, which the article does not give."""
+    cols = ", ".join("smooth" if f == 0 else f"f = {f:g}" for f in sep.table_fs)
+    per = "; ".join(f"{sp.label}: " + ", ".join(f"{v:.2f}°" for v in row) for sp, row in zip(p.spreads, sep.table,
+                                                                                         strict=True))
+    return f"⟨θ⟩ ({cols}): {per}"
 
 
 def comparisons(p: Params, sep: Separation, seed: int) -> dict[str, Comparison]:
@@ -209,6 +283,7 @@ def comparisons(p: Params, sep: Separation, seed: int) -> dict[str, Comparison]:
     ratio = p.paper_cushion_ratio + 0.01 * rng.uniform(-0.5, 0.5, n)
     eps_paper = eps_of(ratio)
     pq = quantiles(eps_paper)
+    half_paper = float(eps_of(p.paper_cushion_ratio - 0.005) - eps_of(p.paper_cushion_ratio))
     out: dict[str, Comparison] = {}
     for key, pub, what in (("eps_cushion_low", low, f"below {p.split_speed:g} m/s"),
                            ("eps_cushion_all", allsp, "over all speeds")):
@@ -216,60 +291,71 @@ def comparisons(p: Params, sep: Separation, seed: int) -> dict[str, Comparison]:
         verdict, diff = judge(eps_paper, draws)
         eps_m = float(eps_of(pub.value))
         half = float(eps_of(pub.value - pub.digit / 2) - eps_m)
+        gap = abs(pq[1] - eps_m)
         out[key] = Comparison(
-            eps_m, f"e = {pub.text} → ε = {eps_m:.4f} (eq. (9))", f"± {half:.4f} (e to ± half its last digit)",
+            eps_m, f"e = {pub.text} → ε = {eps_m:.4f} (eq. (9))", _rounding_words(half),
             pq[1], (pq[0], pq[2]), verdict,
             f"the paper's ε of the cushion, from Coriolis's −V1/V0 = {p.paper_cushion_ratio:g} (§I n°5, printed "
-            f"ε = 0,29); today's regression {what}; paper − today's {_iv(diff)} (95 %)")
+            f"ε = 0,29); today's regression {what}; paper − today's {_iv(diff)} (95 % of the draws). Both sides carry "
+            f"only rounding bounds (today's e to ± {pub.digit / 2:g}, Coriolis's ratio to ± 0.005, ε ± "
+            f"{half_paper:.4f}: « différait peu de 0,55 »), not measurement errors: the gap, {gap:.3f}, is "
+            f"{gap / (half + half_paper):.0f} times their sum")
     d = e_low - e_all
     verdict, diff = judge(np.zeros(n), d)
     W = 0.5
     e_above = (allsp.value - (1 - W) * low.value) / W
+    gap = low.value - allsp.value
     out["eps_constant"] = Comparison(
-        low.value - allsp.value, f"e {low.text} (below {p.split_speed:g} m/s) − {allsp.text} (all) = "
-                                 f"{low.value - allsp.value:.3f}",
-        f"± {float(np.std(d)):.4f} (both to ± half their last digit)", 0.0, (0.0, 0.0), verdict,
+        gap, f"e {low.text} (below {p.split_speed:g} m/s) − {allsp.text} (all) = {gap:.3f}",
+        _rounding_words(float(np.std(d)), "both e to ± half their last printed digit; σ shown"), 0.0, (0.0, 0.0),
+        verdict,
         f"a constant ε (§I n°5: Coriolis's ratio « différait peu de 0,55 » up to 7 m/s) gives one ratio −V1/V0 at "
-        f"every speed, so both regressions would be equal; 0 − measured {_iv(diff)} (95 %). A regression through the "
-        f"origin is the v²-weighted mean of e, so above {p.split_speed:g} m/s e ≤ {allsp.text} and ε ≥ "
-        f"{float(eps_of(allsp.value)):.3f}, {float(eps_of(allsp.value) / eps_of(low.value)):.2f} × the low-speed ε; "
-        f"with half of Σv² above, e = {e_above:.3f} there (ε = {float(eps_of(e_above)):.3f})")
+        f"every speed, so both regressions would be equal; 0 − measured {_iv(diff)} (95 % of the draws). No standard "
+        f"error of either regression is published, so this rests on rounding bounds: agreement at 95 % would need "
+        f"each regression's standard error to reach {gap / (1.96 * math.sqrt(2)):.3f} (equal, independent). A "
+        f"regression through the origin is the v²-weighted mean of e, so above {p.split_speed:g} m/s e ≤ {allsp.text} "
+        f"and ε ≥ {float(eps_of(allsp.value)):.3f}, {float(eps_of(allsp.value) / eps_of(low.value)):.2f} × the "
+        f"low-speed ε; with half of Σv² above, e = {e_above:.3f} there (ε = {float(eps_of(e_above)):.3f})")
     eps_bb = float(eps_of(bb.value))
     eps_marble = float(impact.eps_from_height_ratio(p.paper_marble_height_ratio))
     bb_draws = eps_of(bb.draw(rng, n))
     inside = bool(np.all(bb_draws <= eps_marble))
+    half_bb = float(eps_of(bb.value - bb.digit / 2) - eps_bb)
     out["eps_ball_ball"] = Comparison(
-        eps_bb, f"e = {bb.text} → ε = ε′ = {eps_bb:.4f}",
-        f"± {float(np.std(bb_draws)):.1g} (e to ± half its last digit)",
+        eps_bb, f"e = {bb.text} → ε = ε′ = {eps_bb:.4f}", _rounding_words(half_bb),
         None, (0.0, eps_marble), "consistent" if inside else "inconsistent",
-        f"§VI n°13: « leur valeur, qui est très petite, n'a pas été déterminée »; very small taken as below the "
-        f"smallest ε the paper puts a number on, the ball on marble (√(2/3) → ε = {eps_marble:.3f}); eq. (7) with "
-        f"ε = ε′ gives back e = {float(impact.newton_restitution(1.0, 1.0, eps_bb, eps_bb)):.4f}")
+        f"§VI n°13 calls the balls' ε « très petite » and undetermined; very small taken as below the smallest ε the "
+        f"paper puts a number on, the ball on marble (√(2/3) → ε = {eps_marble:.3f}); eq. (7) with ε = ε′ gives back "
+        f"e = {float(impact.newton_restitution(1.0, 1.0, eps_bb, eps_bb)):.4f}. The measured ε carries only a "
+        f"rounding bound, ± {half_bb:.1g}, not a measurement error: the verdict rests on that threshold, ε lying "
+        f"{eps_marble - eps_bb:.3f} below it, {(eps_marble - eps_bb) / half_bb:.0f} times the bound")
     tau = p.get("cushion_contact_time")
     v = p.split_speed
     out["contact_time"] = Comparison(
         tau.value, f"{tau.text} {tau.unit}", tau.how_uncertain, None, None, "not-checkable",
-        f"§I treats the impact as instantaneous: it predicts no duration. Its premise holds for the forces: the "
-        f"weight's impulse over the contact, g τ, is {p.g * tau.value / (v * (1 + low.value)):.3f} of the cushion's "
-        f"normal impulse at {v:g} m/s; the centre travels v τ = {1000 * v * tau.value:.1f} mm = "
-        f"{v * tau.value / (p.get('ball_diameter').value / 2):.2f} R meanwhile")
+        f"a definition: §I's impact is instantaneous (a jump of the velocities), so it predicts no duration. Its "
+        f"premise holds for the forces: the weight's impulse over the contact, g τ, is "
+        f"{p.g * tau.value / (v * (1 + low.value)):.3f} of the cushion's normal impulse at {v:g} m/s; the centre "
+        f"travels v τ = {1000 * v * tau.value:.1f} mm = {v * tau.value / (p.get('ball_diameter').value / 2):.2f} R "
+        "meanwhile")
     th = p.get("separation_angle_mean")
-    i_typ = 1
-    lo_th, hi_th = float(min(sep.means.min(), sep.smooth)), float(max(sep.means.max(), sep.smooth))
-    consistent = lo_th - th.digit / 2 <= th.value <= hi_th + th.digit / 2
+    lo_th, hi_th = float(sep.table.min()), float(sep.table.max())
+    where = "inside" if lo_th <= th.value <= hi_th else "outside"
     out["separation_mean"] = Comparison(
-        th.value, f"{th.text}°", f"± {th.digit / 2:g} (half its last digit; no spread published)",
-        float(sep.means[i_typ]), (lo_th, hi_th), "consistent" if consistent else "inconsistent",
-        f"conditional on shots with a uniform impact parameter (the article does not give its shots' cut angles): "
-        f"⟨θ⟩ of §VI with e = {sep.e:g}, the cue ball rolling, f = {sep.fs[1]:g} (interval: f from {sep.fs[0]:g} to "
-        f"{sep.fs[2]:g}; smooth balls {sep.smooth:.2f}°; friction only closes the angle). The published mean needs "
-        f"e = {sep.e_needed:.3f} with smooth balls, or shots only at cut angles ψ ≥ {sep.psi_smooth:.1f}° (smooth) or "
-        f"≥ {sep.psi_typical:.1f}° (f = {sep.fs[1]:g})")
+        th.value, f"{th.text}°", _rounding_words(th.digit / 2, "half its last printed digit; no spread published"),
+        None, None, "not-checkable",
+        f"a modelling choice: the article gives neither its shots' cut angles nor how they were spread, and the mean "
+        f"of §VI (e = {sep.e:g}, the cue ball rolling; friction only closes the angle) turns on that spread: "
+        f"{separation_words(p, sep)}. The published mean lies {where} their range, {lo_th:.2f}–{hi_th:.2f}°: with "
+        f"every cut equally likely across the ball's width it needs e = {sep.e_needed:.3f} (smooth balls), and "
+        f"θ(ψ) reaches it only for cuts ψ ≥ {sep.psi_smooth:.1f}° (smooth) or ≥ {sep.psi_typical:.1f}° "
+        f"(f = {sep.fs[1]:g})")
     tm = p.get("transverse_momentum_deficit")
     out["transverse_momentum"] = Comparison(
         tm.value, f"{tm.text} (trend only)", "none published", 0.0, None, "not-checkable",
-        "the pair's momentum across the line of centres is kept exactly by §V and §VI (their impulses are internal); "
-        "the published fraction is a trend whose instant and body are not defined")
+        "a definition: the pair's momentum across the line of centres is kept exactly by §V and §VI whatever ε and f "
+        "(their impulses are internal), so nothing of the paper's can fail here; the published fraction is a trend "
+        "whose instant and body are not defined")
     return out
 
 
@@ -289,7 +375,14 @@ def run(exp: Experiment) -> Reproduction:
         "mu_bb": (p.f_typical, "f of the separation angle's prediction"),
     })
     figures = (_figure_separation(p, sep), _figure_cushion(p))
-    return Reproduction(exp, (), (), figures, modern, measurements=measurement_rows(exp, comps))
+    table = TableSpec(
+        "separation-by-spread", "Mean separation angle of §VI against the spread of shots (degrees)",
+        ("spread of shots", *("smooth" if f == 0 else f"f = {f:g}" for f in sep.table_fs)),
+        tuple((sp.label, *(round(float(v), 2) for v in row)) for sp, row in zip(p.spreads, sep.table, strict=True)),
+        f"§VI on the cloth, e = {sep.e:g} (Sudo & Shibata's head-on restitution), the cue ball rolling into the "
+        f"impact; published mean {p.get('separation_angle_mean').text}°. The article does not give its spread of "
+        "shots.")
+    return Reproduction(exp, (), (), figures, modern, tables=(table,), measurements=measurement_rows(exp, comps))
 
 
 def _figure_separation(p: Params, sep: Separation) -> FigureSpec:
@@ -298,28 +391,33 @@ def _figure_separation(p: Params, sep: Separation) -> FigureSpec:
     psi = np.radians(deg)
     th = p.get("separation_angle_mean").value
     fric = theta_spheres(psi, sep.e, sep.fs[1], R, M, p.k)
-    layers = (
+    i_typ = int(np.argmin(np.abs(sep.table_fs - sep.fs[1])))
+    layers = [
         layer("line", [0.0, 90.0], [90.0, 90.0], label="e = 1, smooth: 90°", color="0.5", style="--"),
         layer("line", deg, theta_smooth(psi, sep.e), label=f"smooth balls, e = {sep.e:g}", color="C0"),
         layer("line", deg, fric, label=f"§VI, cue ball rolling, e = {sep.e:g}, f = {sep.fs[1]:g}", color="C1"),
         layer("line", [0.0, 90.0], [th, th], label=f"published mean {th:g}°", color="C3"),
-        layer("line", [0.0, 90.0], [sep.smooth, sep.smooth], label=f"its mean over evenly spread shots: "
-                                                                    f"{sep.smooth:.1f}°", color="C0", style=":"),
-        layer("line", [0.0, 90.0], [float(sep.means[1])] * 2, label=f"its mean over evenly spread shots: "
-                                                                   f"{float(sep.means[1]):.1f}°", color="C1",
-              style=":"),
-    )
+    ]
+    styles = (":", "-.", "--", "-")
+    for k, (sp, row) in enumerate(zip(p.spreads, sep.table, strict=True)):
+        style = styles[k % len(styles)]
+        xs = [sp.lo_deg, sp.hi_deg]
+        layers.append(layer("line", xs, [float(row[0])] * 2, color="C0", style=style,
+                            label=f"means, {sp.label}: {float(row[0]):.1f}° smooth, {float(row[i_typ]):.1f}° with f"))
+        layers.append(layer("line", xs, [float(row[i_typ])] * 2, color="C1", style=style))
+    lo_th, hi_th = float(sep.table.min()), float(sep.table.max())
     return FigureSpec(
         "separation-angle", "Angle between the two balls' directions after an oblique impact", "cut angle ψ (degrees)",
-        "separation angle θ (degrees)", layers, (0.0, 90.0), (40.0, 92.0),
-        caption=f"Sudo & Shibata 2002: e = {sep.e:g}, mean separation {th:g}°",
+        "separation angle θ (degrees)", tuple(layers), (0.0, 90.0), (40.0, 92.0),
+        caption=f"Sudo & Shibata 2002: e = {sep.e:g}, mean separation {th:g}°; shots' spread not published",
         reading=(
             "The angle between the cue ball's and the object ball's directions right after the impact, against the "
             "cut angle: 90° for smooth elastic balls, less with e < 1 (blue) and less again with friction (orange); "
-            "both fall to 0 for a full hit (ψ → 0). Dotted: their means over shots with a uniform impact parameter "
-            f"({sep.smooth:.1f}° and {float(sep.means[1]):.1f}°), both below the published mean {th:g}° (red), "
-            f"which the curves reach only for ψ ≥ {sep.psi_smooth:.0f}° and ψ ≥ {sep.psi_typical:.0f}°."),
-        legend="lower right")
+            "both fall to 0 for a full hit (ψ → 0). Each pair of horizontal segments is the two curves' mean over one "
+            "spread of shots, drawn over the cut angles it covers; the article gives no spread, and the means run "
+            f"from {lo_th:.1f}° to {hi_th:.1f}° around the published mean {th:g}° (red), which the curves reach only "
+            f"for ψ ≥ {sep.psi_smooth:.0f}° and ψ ≥ {sep.psi_typical:.0f}°."),
+        legend="below")
 
 
 def _figure_cushion(p: Params) -> FigureSpec:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from ..config import Experiment, Node
 from ..fit.estimators.lsq import FitResult, fit_physical, fit_physical_positions, fit_positions, fit_times
@@ -36,11 +37,10 @@ from .base import (
 )
 
 STATIC = ("eq1_slip", "q_constant", "eq2_as_printed", "eq2_original", "slip_direction", "eq3_frame",
-          "eq4_as_printed", "eq4_original", "eq5_sliding", "eq5_all_regimes", "eq6_sliding", "eq6_all_regimes",
-          "eq7_tan_sliding", "eq7_components_sliding", "eq7_tan_all_regimes", "vertical_plane",
-          "vertical_plane_side_spin", "range_formula", "range_ratio", "eq8_sliding", "eq8_all_regimes", "eq9_limit",
-          "eq9_premise", "eq9_beyond", "angles_decrease", "angles_decrease_roze", "mean_ratio_spinless",
-          "mean_ratio_spin", "ligneous_layer", "footnote_drop_ratio")
+          "eq4_as_printed", "eq4_original", "eq5_sliding", "eq5_slip_stops", "eq6_sliding", "eq6_slip_stops",
+          "eq7_tan_sliding", "eq7_components_sliding", "eq7_tan_slip_stops", "vertical_plane", "range_formula",
+          "range_ratio", "eq8_sliding", "eq8_slip_stops", "eq9_limit", "eq9_premise", "eq9_beyond",
+          "angles_decrease", "angles_decrease_roze", "mean_ratio", "ligneous_layer", "footnote_drop_ratio")
 COST = 1.5  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("e_t",)
 MAX_SEEDS = 1000  # repetitions of the estimator comparison: 40 take about a second; 1000 pin the bias to 0.3 %
@@ -168,7 +168,8 @@ def _scenes(seed: int, n: int = 24) -> tuple[np.ndarray, ...]:
 
 def formula_checks(p: Params, seed: int) -> dict[str, float]:
     """Largest discrepancy of each printed formula of n°8–9 from the integrated impact (impulse variable)
-    and flight, over random scenes; 'sliding' rows only over scenes where the slip lasts the whole impact."""
+    and flight, over random scenes; 'sliding' rows only over scenes where the slip lasts the whole impact,
+    'slip_stops' rows only over those where it stops during the impact."""
     chi0, zeta0, pR, f, nu = _scenes(seed)
     R, k = p.R, p.k
     p0 = pR / R
@@ -214,16 +215,16 @@ def formula_checks(p: Params, seed: int) -> dict[str, float]:
     lim9 = np.max(np.abs(plane.range_ratio_exact(tiny, f=f, nu=nu, k=k) - nu) / nu)
     return {
         "eq6_sliding": float(np.max(err6[slide])),
-        "eq6_all_regimes": float(np.max(err6)),
+        "eq6_slip_stops": float(np.max(err6[~slide])),
         "eq7_tan_sliding": float(np.max(err7[forward])),
         "eq7_components_sliding": float(np.max(err7c[forward])),
-        "eq7_tan_all_regimes": float(np.max(err7[(s > 0) & (ref.chi1 > 0)])),
+        "eq7_tan_slip_stops": float(np.max(err7[~slide & (s > 0) & (ref.chi1 > 0)])),
         "range_formula": float(np.max(err_range)),
         "range_corrected": float(np.max(err_range_fixed)),
         "range_ratio_original": float(np.max(err_ratio[chi0 > 0])),
         "range_ratio": float(np.max(err_ratio_digitised[chi0 > 0])),
         "eq8_sliding": float(np.max(err8[slide & fwd_all & (ref.chi1 > 0)])),
-        "eq8_all_regimes": float(np.max(err8[fwd_all])),
+        "eq8_slip_stops": float(np.max(err8[~slide & fwd_all])),
         "eq9_limit": float(lim9),
     }
 
@@ -235,6 +236,18 @@ def _rotate(xy: np.ndarray, theta: float) -> np.ndarray:
     return np.array([c * xy[0] + s * xy[1], -s * xy[0] + c * xy[1]])
 
 
+def material_point_velocity(v: np.ndarray, w: np.ndarray, r: np.ndarray, step: float = 1e-3) -> np.ndarray:
+    """Velocity of the ball's material point at ``r`` from C, differentiated from its position v t + rot(t ω) r (the
+    rigid motion, rotated by scipy's ``Rotation``: no vector product of ours), by a fourth-order central difference
+    over ±2h with |ω| h = ``step``: truncation about (|ω| h)⁴/30, rounding about 1e-16/(|ω| h), relative."""
+    wn = float(np.linalg.norm(w))
+    if wn == 0.0:
+        return np.array(v, dtype=float)
+    h = step / wn
+    x = {j: v * (j * h) + Rotation.from_rotvec(w * (j * h)).apply(r) for j in (-2, -1, 1, 2)}
+    return (x[-2] - 8.0 * x[-1] + 8.0 * x[1] - x[2]) / (12.0 * h)
+
+
 def checks_3d(p: Params, seed: int, n: int = 24) -> dict[str, float]:
     """Largest discrepancy of eqs (1)–(5) of n°8 and of n°9's plane of motion from ``plane.integrate_impact_3d`` (the
     Newton–Euler equations in vector form) over random scenes in three dimensions: velocity (χ, η, ζ0 < 0) and
@@ -242,17 +255,18 @@ def checks_3d(p: Params, seed: int, n: int = 24) -> dict[str, float]:
     rng = np.random.default_rng(seed + 8)
     k, R = p.k, p.R
     worst = dict.fromkeys(("eq1_slip", "q_constant", "eq2_as_printed", "eq2_original", "slip_direction", "eq3_frame",
-                           "eq4_original", "eq5_sliding", "eq5_all_regimes"), 0.0)
+                           "eq4_original", "eq5_sliding", "eq5_slip_stops"), 0.0)
     slid = stopped = 0
     for _ in range(n):
         v0 = np.array([rng.uniform(-3, 3), rng.uniform(-3, 3), -rng.uniform(0.1, 3.0)])
         Rw0 = rng.uniform(-3, 3, 3)
         f, nu = rng.uniform(0.0, 0.5), rng.uniform(0.3, 1.0)
         z0 = abs(v0[2])
-        # (1) v_x = χ − pR, v_y = η + nR, against v + ω × (−R ẑ)
+        # (1) v_x = χ − pR, v_y = η + nR, against the velocity of the material point at the contact, −R ẑ from C
         u = plane.slip_velocity(v0, Rw0)
         printed1 = np.array([v0[0] - Rw0[1], v0[1] + Rw0[0]])
-        worst["eq1_slip"] = max(worst["eq1_slip"], float(np.max(np.abs(printed1 - u[:2]))) / z0)
+        moving = material_point_velocity(v0, Rw0 / R, np.array([0.0, 0.0, -R]))
+        worst["eq1_slip"] = max(worst["eq1_slip"], float(np.max(np.abs(printed1 - moving[:2]))) / z0)
         # (2) as digitised and as most likely printed, against the vector rates (per unit normal impulse Z dt/M)
         dv, dw = plane.impact_rates(v0, Rw0, k=k, f=f)
         ux, uy = u[:2] / np.hypot(*u[:2])
@@ -281,12 +295,12 @@ def checks_3d(p: Params, seed: int, n: int = 24) -> dict[str, float]:
         worst["eq3_frame"] = max(worst["eq3_frame"], abs(eta1 - eta0) / z0, abs(n1R - n0R) / z0)
         dz = out.v1[2] - v0[2]
         err5 = max(abs(chi1 - (chi0 - f * dz)), abs(p1R - (p0R + f * k * dz))) / z0
-        worst["eq5_all_regimes"] = max(worst["eq5_all_regimes"], err5)
         if math.isnan(out.stopped_at):
             slid += 1
             worst["eq5_sliding"] = max(worst["eq5_sliding"], err5)
         else:
             stopped += 1
+            worst["eq5_slip_stops"] = max(worst["eq5_slip_stops"], err5)
     assert slid and stopped, "the scenes must exercise both regimes"
     return worst
 
@@ -294,17 +308,24 @@ def checks_3d(p: Params, seed: int, n: int = 24) -> dict[str, float]:
 def vertical_plane(p: Params, seed: int, side_spin: bool, n: int = 8) -> float:
     """n°9: launched with η = 0 in axes along the slip (then n = 0 too: v_y = η + nR = 0), the centre stays in one
     vertical plane; with a rotation n about the line of flight (η = 0 but v_y = nR ≠ 0) it does not. Largest
-    sideways distance of the imprints from the launch plane, relative to the distance covered, over 8 ricochets."""
+    sideways distance of the imprints from the launch plane, relative to the distance covered, over 6 ricochets of
+    ``n`` launches, each along a random azimuth of the fixed plane (n°8's Ox is any horizontal axis along the slip)
+    and with a random rotation q about the normal (which n°8 leaves aside)."""
     rng = np.random.default_rng(seed + 9)
     worst = 0.0
     for _ in range(n):
         a0, alpha0 = rng.uniform(1.0, 4.0), rng.uniform(0.1, 1.2)
         f, nu = rng.uniform(0.05, 0.5), rng.uniform(0.5, 0.95)
-        pR = rng.uniform(-1.0, 1.0) * a0
+        pR, qR = rng.uniform(-1.0, 1.0) * a0, rng.uniform(-1.0, 1.0) * a0
         nR = rng.uniform(0.2, 1.0) * a0 * rng.choice([-1, 1]) if side_spin else 0.0
-        pos, _ = plane.ricochet_3d([a0 * math.cos(alpha0), 0.0, -a0 * math.sin(alpha0)], [nR, pR, 0.0], k=p.k, f=f,
-                                   nu=nu, g=p.g, n=6)
-        worst = max(worst, float(np.max(np.abs(pos[:, 1]))) / float(np.hypot(*pos[-1])))
+        th = rng.uniform(0.0, 2.0 * math.pi)
+        c, s = math.cos(th), math.sin(th)
+        # the launch of n°9's axes (x along the flight, n about it, p about the horizontal normal), turned by θ
+        v0 = [a0 * math.cos(alpha0) * c, a0 * math.cos(alpha0) * s, -a0 * math.sin(alpha0)]
+        Rw0 = [nR * c - pR * s, nR * s + pR * c, qR]
+        pos, _ = plane.ricochet_3d(v0, Rw0, k=p.k, f=f, nu=nu, g=p.g, n=6)
+        side = np.abs(-s * pos[:, 0] + c * pos[:, 1])
+        worst = max(worst, float(np.max(side)) / float(np.hypot(*pos[-1])))
     return worst
 
 
@@ -315,38 +336,48 @@ IMPRINTS = 12  # n°10: « empreintes dont le nombre s'est élevé jusqu'à 12 �
 
 def premise_9(p: Params) -> tuple[float, float, float]:
     """(largest relative error of (9) per unit of the neglected f tan α0 where f tan α0 ≤ 0,05; the f tan α0 that
-    keeps (9) within 0,5 % at ν = 0,8; largest relative error of (9) for α0 ≤ 60°, f ≤ 0,5, ν in [0,3, 1])."""
+    keeps (9) within 0,5 % at the error map's ν; largest relative error of (9) for α0 ≤ 60°, f ≤ 0,5, ν in [0,3, 1])."""
     a, f, nu = np.meshgrid(np.radians(np.linspace(0.05, 60, 240)), np.linspace(0.005, 0.5, 100),
                            np.linspace(0.3, 1.0, 15), indexing="ij")
     u = f * np.tan(a)
     err = np.abs(plane.range_ratio_small_angle(nu) - plane.range_ratio_exact(a, f=f, nu=nu, k=p.k)) / \
         plane.range_ratio_exact(a, f=f, nu=nu, k=p.k)
     small = u <= 0.05
-    # (9) within 0,5 % at ν = 0,8 while sliding: u(1 + ν)/(1 − u(1 + ν)) = 0,005
-    u_two_digits = 0.005 / 1.005 / 1.8
+    # (9) within 0,5 % (Rozé's two digits) at the error map's ν while sliding: u(1 + ν)/(1 − u(1 + ν)) = 0,005
+    u_two_digits = 0.005 / 1.005 / (1.0 + p.map_nu)
     return float(np.max(err[small] / u[small])), u_two_digits, float(np.max(err))
 
 
-def angles_claim(nu_range: tuple[float, float]) -> float:
-    """Largest tan α1/tan α0 − 1 (exact impacts: the slip may stop) where f tan α0 ≤ 0,05, over ν in the range."""
-    a, f, nu = np.meshgrid(np.linspace(1e-3, math.atan(0.05 / 0.01), 60), np.linspace(0.01, 0.5, 40),
-                           np.linspace(*nu_range, 21), indexing="ij")
-    small = f * np.tan(a) <= 0.05
-    out = plane.plane_impact(np.cos(a), -np.sin(a), 0.0, R=1.0, k=2.5, f=f, nu=nu)
-    ratio = (out.zeta1 / out.chi1) / np.tan(a)
-    return float(max(0.0, np.max(ratio[small]) - 1.0))
+def angles_claim(p: Params, nu_range: tuple[float, float]) -> tuple[float, float]:
+    """n°9's « à plus forte raison »: tan α1 ≤ tan α0 where f tan α0 ≤ 0,05 (exact impacts: the slip may stop), over
+    ν in the range. (how far the claim fails: the largest tan α1/tan α0 − 1, 0 where it holds; its worst signed
+    margin, 1 − the largest tan α1/tan α0: > 0 where it holds, < 0 where it fails)."""
+    u, f, nu = np.meshgrid(np.linspace(1e-4, 0.05, 60), np.linspace(0.01, 0.5, 40), np.linspace(*nu_range, 21),
+                           indexing="ij")
+    a = np.arctan(u / f)  # every launch with f tan α0 ≤ 0,05, its edge included
+    out = plane.plane_impact(np.cos(a), -np.sin(a), 0.0, R=1.0, k=p.k, f=f, nu=nu)
+    worst = float(np.max((out.zeta1 / out.chi1) / np.tan(a)))
+    return max(0.0, worst - 1.0), 1.0 - worst
 
 
-def mean_ratio_bias(p: Params, spin: float) -> float:
+def slip_stop_threshold(p: Params, nu: float, impacts: int) -> float:
+    """The f tan α0 beyond which the slip of a ball thrown without spin stops within ``impacts`` impacts: by (6) each
+    sliding impact lowers the slip χ − pR by f(1 + k)(1 + ν)|ζ| and |ζ| falls by ν from one impact to the next, so the
+    slip χ0 lasts while χ0 > f(1 + k)(1 + ν)|ζ0|(1 − ν^n)/(1 − ν)."""
+    return (1.0 - nu) / ((1.0 + p.k) * (1.0 + nu) * (1.0 - nu**impacts))
+
+
+def mean_ratio_bias(p: Params, spin: float, u_max: float | None = None) -> float:
     """Largest relative bias of Rozé's estimate, the mean of the ratios of consecutive distances between 12
-    imprints, against ν, over launches α0 in [1°, 60°], f in [0,01, 0,5], ν in NU_HARD, and a spin before the first
-    impact p0R in [−spin, spin]·a0 (noise-free, exact impacts)."""
+    imprints, against ν, over launches α0 in [1°, 60°] (only where f tan α0 ≤ ``u_max``, if given), f in [0,01, 0,5],
+    ν in NU_HARD, and a spin before the first impact p0R in [−spin, spin]·a0 (noise-free, exact impacts)."""
     spins = np.linspace(-spin, spin, 5) if spin else np.array([0.0])
     a, f, nu, s = np.meshgrid(np.radians(np.linspace(1, 60, 60)), np.linspace(0.01, 0.5, 50),
                               np.linspace(*NU_HARD, 9), spins, indexing="ij")
     r = plane.ricochet(1.0, a, s, R=1.0, k=p.k, f=f, nu=nu, g=p.g, n=IMPRINTS - 1)
     ratios = r.ranges[..., 1:] / r.ranges[..., :-1]
-    return float(np.max(np.abs(ratios.mean(axis=-1) - nu) / nu))
+    bias = np.abs(ratios.mean(axis=-1) - nu) / nu
+    return float(np.max(bias if u_max is None else bias[f * np.tan(a) <= u_max]))
 
 
 # ---- the experiment -----------------------------------------------------------------------------------------
@@ -359,6 +390,10 @@ def run(exp: Experiment) -> Reproduction:
     how3 = "largest discrepancy from the vector equations of motion (Newton–Euler, integrated in three dimensions) " \
         "over 24 random scenes, relative to |ζ0|"
     computed.update({key: Computed(v, how3) for key, v in c3.items()})
+    computed["eq1_slip"] = Computed(c3["eq1_slip"], (
+        "largest discrepancy of (χ − pR, η + nR) from the velocity of the ball's material point at the contact, "
+        "differentiated from its position under the rigid motion (translation and rotation, fourth-order central "
+        "difference, no vector product), over 24 random scenes with rotations in any direction; relative to |ζ0|"))
     computed["eq2_as_printed"] = Computed(c3["eq2_as_printed"], how3, lambda _p: (
         f"as digitised, the third of (2) reads M dn/dt = Z and the last two swap v_x and v_y (dn/dt with v_x, dp/dt "
         f"with v_y): off by up to {c3['eq2_as_printed']:.3g} per unit impulse. The original most likely printed "
@@ -368,27 +403,34 @@ def run(exp: Experiment) -> Reproduction:
         "; the digitised M dx/dt = −fZ, M dz/dt = Z read dx, dz for dχ, dζ (single glyphs, unambiguous: position "
         "rates against forces would not be homogeneous, and (3) and (5) use the velocities), graded as "
         "M dχ/dt = −fZ, M dζ/dt = Z"))
-    computed["eq5_all_regimes"] = Computed(c3["eq5_all_regimes"], how3, lambda _p: (
+    # where the paper applies (5)–(8) and the slip stops: n°9 applies them to every ricochet of a ball thrown at any
+    # angle, and to the following ricochets; a ball thrown without spin on a surface of the error map's ν
+    nu_m = p.map_nu
+    u_first, u_within = 1.0 / ((1.0 + p.k) * (1.0 + nu_m)), slip_stop_threshold(p, nu_m, IMPRINTS - 1)
+    where_stops = (
+        f"; the paper applies (5)–(8) to every ricochet, at any angle, and n°10 to Rozé's: thrown without spin on a "
+        f"surface of ν = {nu_m:g} the slip stops at the first impact once f tan α0 > {u_first:.3g} (α0 > "
+        f"{math.degrees(math.atan(u_first / 0.2)):.0f}° for f = 0,2) and within Rozé's {IMPRINTS} imprints once "
+        f"f tan α0 > {u_within:.3g}")
+    computed["eq5_slip_stops"] = Computed(c3["eq5_slip_stops"], how3 + ", where the slip stops", lambda _p: (
         f"(5) integrates (4), i.e. assumes the contact slides during the whole impact; where the slip stops "
         f"(|v_x0| < f(1 + k)(1 + ν)|ζ0|) the contact then rolls without friction and (5) overshoots by up to "
-        f"{c3['eq5_all_regimes']:.3g} |ζ0|"))
-    computed["eq6_all_regimes"] = Computed(checks["eq6_all_regimes"], how, lambda _p: (
+        f"{c3['eq5_slip_stops']:.3g} |ζ0|" + where_stops))
+    computed["eq6_slip_stops"] = Computed(checks["eq6_slip_stops"], how + ", where the slip stops", lambda _p: (
         f"eqs (6) assume the slip lasts the whole impact; where it stops (|χ0 − p0R| < f(1 + k)(1 + ν)|ζ0|) the "
-        f"contact then rolls and (6) overshoots: largest error {checks['eq6_all_regimes']:.3g} |ζ0|"))
-    computed["eq7_tan_all_regimes"] = Computed(checks["eq7_tan_all_regimes"], how, lambda _p: (
+        f"contact then rolls and (6) overshoots: largest error {checks['eq6_slip_stops']:.3g} |ζ0|" + where_stops))
+    computed["eq7_tan_slip_stops"] = Computed(checks["eq7_tan_slip_stops"], how + ", where the slip stops", lambda _p: (
         f"the third of (7) follows from the first two, which assume the slip lasts the whole impact; where it stops "
         f"the ball leaves rolling, tan α1 = ν(1 + k) tan α0 / k without f, and (7) errs by up to "
-        f"{checks['eq7_tan_all_regimes']:.3g} (relative)"))
+        f"{checks['eq7_tan_slip_stops']:.3g} (relative)" + where_stops))
     vp = vertical_plane(p, exp.seed, side_spin=False)
     vps = vertical_plane(p, exp.seed, side_spin=True)
-    how_vp = "largest sideways distance of 6 imprints from the launch plane over the distance covered, 8 random " \
-        "launches with spin p about the horizontal normal to the flight, integrated in three dimensions"
-    computed["vertical_plane"] = Computed(vp, how_vp)
-    computed["vertical_plane_side_spin"] = Computed(vps, how_vp + ", with a rotation n about the line of flight",
-                                                    lambda _p: (
-        f"η = 0 keeps the centre in one plane only if the slip is along the flight too, i.e. n = 0 (v_y = η + nR); "
-        f"read in n°8's axes (Ox along the slip) η = 0 implies it, but a ball spun about its line of flight "
-        f"(nR up to a0) drifts sideways at every impact: up to {vps:.3g} of the distance covered"))
+    computed["vertical_plane"] = Computed(vp, (
+        "largest sideways distance of 6 imprints from the launch plane over the distance covered, 8 random launches "
+        "(each along a random azimuth, with spins p about the horizontal normal to the flight and q about the "
+        "normal), integrated in three dimensions. n°8 takes Ox along the slip, so η = 0 means v_y = η + nR = 0, "
+        "n = 0: a launch with η = 0 but a rotation n about the line of flight, which these axes exclude, drifts "
+        f"sideways at every impact (up to {vps:.3g} of the distance covered, nR up to a0)"))
     computed["range_formula"] = Computed(checks["range_formula"], how, lambda _p: (
         "the range of a parabolic flight is 2a² sin α cos α / g (= a² sin 2α / g): the printed a² sin α cos α / g "
         "lacks the factor 2 in P0, P1 and their ratio alike, a slip of the 1883 original (the ratio (8) is "
@@ -398,50 +440,60 @@ def run(exp: Experiment) -> Reproduction:
         "; the digitised α1², α0² are the glyphs of the speeds a1², a0² (as 'α0, α0' for 'a0, α0' two lines up; "
         "read as angles the ratio would be off by up to " f"{checks['range_ratio']:.3g}" "): graded as "
         "a1² sin α1 cos α1 / (a0² sin α0 cos α0), whose missing factor 2 (row range) cancels"))
-    computed["eq8_all_regimes"] = Computed(checks["eq8_all_regimes"], how, lambda _p: (
+    computed["eq8_slip_stops"] = Computed(checks["eq8_slip_stops"], how + ", where the slip stops", lambda _p: (
         f"(8) is exact while the contact slides; where the slip stops during an impact the exact ratio is "
-        f"ν(kχ0 + p0R)/((1 + k)χ0) and (8) errs by up to {checks['eq8_all_regimes']:.0%} (see the error map)"))
+        f"ν(kχ0 + p0R)/((1 + k)χ0) and (8) errs by up to {checks['eq8_slip_stops']:.0%} (see the error map)"
+        + where_stops))
     per_u, u2, beyond9 = premise_9(p)
     computed["eq9_premise"] = Computed(per_u, (
         f"largest relative error of (9) against the exact ratio, per unit of the neglected f tan α0, where "
         f"f tan α0 ≤ 0,05 (ν in [0,3, 1], no spin): (9) errs by (1 + ν) f tan α0/(1 − (1 + ν) f tan α0) while the "
         f"contact slides, of the order of the neglected quantity as the premise says, but up to twice it: to hold "
-        f"to Rozé's two digits (0,5 % at ν = 0,8) it needs f tan α0 ≤ {u2:.2g}, α0 ≤ "
+        f"to Rozé's two digits (0,5 % at ν = {p.map_nu:g}) it needs f tan α0 ≤ {u2:.2g}, α0 ≤ "
         f"{math.degrees(math.atan(u2 / 0.2)):.1f}° for f = 0,2"))
     computed["eq9_beyond"] = Computed(beyond9, "largest relative error of (9) for α0 ≤ 60°, f ≤ 0,5, ν in [0,3, 1]",
                                       lambda _p: (
         f"beyond its premise (9) errs by up to {beyond9:.0%}: where the slip stops in the impact the ball leaves "
         "rolling and P1/P0 = νk/(1 + k). Once the ball arrives rolling (v_x = 0), (9) is exact at any angle: the "
         "impact needs no friction"))
-    ang = angles_claim((0.3, 1.0))
+    ang, ang_margin = angles_claim(p, (0.3, 1.0))
     computed["angles_decrease"] = Computed(ang, "largest tan α1/tan α0 − 1 (exact impacts) where f tan α0 ≤ 0,05, "
                                                 "for ν in [0,3, 1]", lambda _p: (
         f"by the third of (7), tan α1 < tan α0 iff f(1 + ν) tan α0 < 1 − ν: f tan α0 must be small against 1 − ν, "
         f"not against 1; for ν close to 1 the angles grow (tan α1/tan α0 − 1 up to {ang:.3g} where f tan α0 ≤ 0,05), "
-        "however small f tan α0 is"))
-    computed["angles_decrease_roze"] = Computed(angles_claim(NU_HARD), (
-        f"largest tan α1/tan α0 − 1 (exact impacts) where f tan α0 ≤ 0,05, for ν in [{NU_HARD[0]:g}, {NU_HARD[1]:g}] "
-        "(the range of Rozé's surfaces): the angles decrease"))
-    how_mr = (f"largest relative bias of the mean ratio of consecutive distances between {IMPRINTS} imprints "
-              f"against ν, noise-free exact ricochets, α0 in [1°, 60°], f in [0,01, 0,5], ν in "
-              f"[{NU_HARD[0]:g}, {NU_HARD[1]:g}]")
-    mr0 = mean_ratio_bias(p, 0.0)
-    computed["mean_ratio_spinless"] = Computed(mr0, how_mr + f", thrown without spin: the slip stops within a few "
-                                               f"impacts, after which each ratio is ν exactly; the mean is never above "
-                                               f"ν and up to {mr0:.1%} below it (0,02 on 0,80: more than the printed "
-                                               "second digit)")
-    mrs = mean_ratio_bias(p, 0.5)
-    computed["mean_ratio_spin"] = Computed(mrs, how_mr + ", thrown with a spin p0R in [−0,5, 0,5] a0", lambda _p: (
-        f"a ball thrown with back spin keeps sliding over many impacts, each lowering the ratio below ν: the mean "
-        f"errs by up to {mrs:.0%}; n°10 does not say how Rozé threw the ball"))
+        "however small f tan α0 is"), margin=ang_margin)
+    # where the paper applies it: Rozé's surfaces, the ν of this experiment's synthetic surfaces (else NU_HARD)
+    nus = [s.synthetic.nu for s in p.surfaces if s.synthetic is not None]
+    nu_roze = (min(nus), max(nus)) if nus else NU_HARD
+    roze, roze_margin = angles_claim(p, nu_roze)
+    computed["angles_decrease_roze"] = Computed(roze, (
+        f"largest tan α1/tan α0 − 1 (exact impacts) where f tan α0 ≤ 0,05, for ν in [{nu_roze[0]:g}, {nu_roze[1]:g}] "
+        f"(the surfaces of this experiment, Rozé's): the angles decrease, tan α1/tan α0 at most {1 - roze_margin:.4g} "
+        f"(a margin of {roze_margin:.2g}); by the third of (7) the margin vanishes at f tan α0 = (1 − ν)/(1 + ν), "
+        f"{(1 - nu_roze[1]) / (1 + nu_roze[1]):.3g} at ν = {nu_roze[1]:g}"), margin=roze_margin)
+    # n°10: Rozé's mean ratio, as the launch (spin, angle) and the reading of « relativement peu » make it
+    grid = (f"noise-free exact ricochets, {IMPRINTS} imprints, f in [0,01, 0,5], ν in [{NU_HARD[0]:g}, "
+            f"{NU_HARD[1]:g}], a spin p0R in [−0,5, 0,5] a0 or none")
+    mr = {(spin, u): mean_ratio_bias(p, spin, u) for spin in (0.0, 0.5) for u in (u2, 0.05, None)}
+    computed["mean_ratio"] = Computed(None, (
+        "a modelling choice: n°10 says neither how Rozé threw the ball (its spin, its angle) nor how near ν "
+        "« relativement peu » is, and the outcome turns on them. Largest bias of the mean ratio of consecutive "
+        f"distances against ν ({grid}): where f tan α0 ≤ {u2:.2g} (so that (9) holds to Rozé's two digits, row "
+        f"eq9_premise) {mr[0.0, u2]:.2%} without spin, {mr[0.5, u2]:.2%} with; where f tan α0 ≤ 0,05 "
+        f"{mr[0.0, 0.05]:.2%} without spin, {mr[0.5, 0.05]:.2%} with; for α0 up to 60° {mr[0.0, None]:.2%} without "
+        f"spin, {mr[0.5, None]:.2%} with. Thrown without spin the slip stops within a few impacts, after which each "
+        "ratio is ν exactly, and the mean is never above ν; thrown with back spin the ball slides on, each ratio "
+        "ν[1 − f(1 + ν) tang α] by (8)"))
     computed["ligneous_layer"] = Computed(None, (
-        "resal has no model of a plane made of a covering sheet on a different body: the inference rests on Rozé's "
-        "figures alone (paper on marble 0,65, fir 0,63, bare marble 0,80–0,85), which are not reproducible without "
-        "his series"))
+        "a measurement: the inference rests on Rozé's measured figures alone (paper on marble 0,65, fir 0,63, bare "
+        "marble 0,80–0,85); resal has no model of a plane made of a covering sheet on a different body, and the "
+        "figures are not reproducible without his series"))
     drop_ratio = math.sqrt(p.drop_height_ratio)
-    computed["footnote_drop_ratio"] = Computed(drop_ratio, (
-        "√ of n°5's rebound height ratio on marble, against Rozé's ν; the printed value √(2/3) = 0,81 itself is "
-        "graded once, in row velocity_ratio of marble-drop"))
+    computed["footnote_drop_ratio"] = Computed(None, (
+        f"a measurement: the footnote compares two measurements, Rozé's ν on polished marble and the velocity ratio "
+        f"of n°5's drop test on marble, √ of its height ratio = {drop_ratio:.4f}; no premise gives either, and how "
+        "near « diffère peu » asks them to be is no computation (the printed √(2/3) = 0,81 itself is graded once, "
+        "in row velocity_ratio of marble-drop)"))
 
     fits: list[FitRow] = []
     ident: list[dict] = []
@@ -485,7 +537,8 @@ def run(exp: Experiment) -> Reproduction:
             shown = fj
         computed[f"nu.{s.id}"] = Computed(
             None if s.synthetic is not None else fx.estimate("nu").value,
-            "Rozé's series are not printed; the synthetic series, generated with the printed mean, only "
+            "a measurement: Rozé's mean ν on this surface; his series are not printed, and the synthetic series, "
+            "generated with the mean of the params, only "
             "exercises the fit (see the fits)" if s.synthetic is not None else "fit of the measured imprints")
         figures.append(_figure_sequence(p, s, x, shown, t is not None))
         if s.synthetic is not None:
