@@ -9,12 +9,12 @@ from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.spatial.transform import Rotation
 
 from ..config import Experiment, Node
 from ..mechanics import cloth, reference
 from ..mechanics.budget import bounded, check
 from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
+from .kinematics import material_point_velocity
 
 _CHECKS = ("slip_direction", "eq4_motion", "eq5_as_printed", "t_roll", "x_roll", "y_roll_as_printed",
            "footnote_point", "coriolis_theorem")
@@ -143,18 +143,6 @@ def _integrate_3d(v0: np.ndarray, w0: np.ndarray, R: float, k: float, f: float, 
     stops.terminal = True
     return check(solve_ivp(rhs, (t0, t_end), start, method="DOP853", rtol=1e-11, atol=1e-14, dense_output=True,
                            events=stops))
-
-
-def material_point_velocity(v: np.ndarray, w: np.ndarray, r: np.ndarray, step: float = 1e-3) -> np.ndarray:
-    """Velocity of the ball's material point at ``r`` from C, differentiated from its position v t + rot(t ω) r (the
-    rigid motion, rotated by scipy's ``Rotation``: no vector product of ours), by a fourth-order central difference
-    over ±2h with |ω| h = ``step``: truncation about (|ω| h)⁴/30, rounding about 1e-16/(|ω| h), relative."""
-    wn = float(np.linalg.norm(w))
-    if wn == 0.0:
-        return np.array(v, dtype=float)
-    h = step / wn
-    x = {j: v * (j * h) + Rotation.from_rotvec(w * (j * h)).apply(r) for j in (-2, -1, 1, 2)}
-    return (x[-2] - 8.0 * x[-1] + 8.0 * x[1] - x[2]) / (12.0 * h)
 
 
 def claims(p: Params, seed: int) -> dict[str, float]:

@@ -16,7 +16,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from ..config import Experiment, Node
 from ..fit.estimators.lsq import FitResult, fit_physical, fit_physical_positions, fit_positions, fit_times
@@ -35,6 +34,7 @@ from .base import (
     read_ball,
     rows_for,
 )
+from .kinematics import material_point_velocity
 
 STATIC = ("eq1_slip", "q_constant", "eq2_as_printed", "eq2_original", "slip_direction", "eq3_frame",
           "eq4_as_printed", "eq4_original", "eq5_sliding", "eq5_slip_stops", "eq6_sliding", "eq6_slip_stops",
@@ -234,18 +234,6 @@ def _rotate(xy: np.ndarray, theta: float) -> np.ndarray:
     """Horizontal components in axes turned by θ (the new Ox along the direction θ)."""
     c, s = math.cos(theta), math.sin(theta)
     return np.array([c * xy[0] + s * xy[1], -s * xy[0] + c * xy[1]])
-
-
-def material_point_velocity(v: np.ndarray, w: np.ndarray, r: np.ndarray, step: float = 1e-3) -> np.ndarray:
-    """Velocity of the ball's material point at ``r`` from C, differentiated from its position v t + rot(t ω) r (the
-    rigid motion, rotated by scipy's ``Rotation``: no vector product of ours), by a fourth-order central difference
-    over ±2h with |ω| h = ``step``: truncation about (|ω| h)⁴/30, rounding about 1e-16/(|ω| h), relative."""
-    wn = float(np.linalg.norm(w))
-    if wn == 0.0:
-        return np.array(v, dtype=float)
-    h = step / wn
-    x = {j: v * (j * h) + Rotation.from_rotvec(w * (j * h)).apply(r) for j in (-2, -1, 1, 2)}
-    return (x[-2] - 8.0 * x[-1] + 8.0 * x[1] - x[2]) / (12.0 * h)
 
 
 def checks_3d(p: Params, seed: int, n: int = 24) -> dict[str, float]:
