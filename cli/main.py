@@ -1,18 +1,22 @@
 """``resal``: list, reproduce and simulate. Parses arguments, calls one library function, renders.
 
 Heavy imports (numpy, scipy, matplotlib) happen inside the commands, so ``resal --help`` stays fast.
-Bad input of any kind ends with one message on stderr and exit status 2; `reproduce` interrupted by SIGTERM or
-SIGINT stops its workers, removes its staging folders and exits with 128 + the signal (143, 130).
+Bad input of any kind ends with one message on stderr and exit status 2; every command interrupted by SIGINT,
+SIGTERM or SIGHUP stops its workers, removes its staging folders and exits with one line and 128 + the signal
+(130, 143, 129); the earlier results are left whole.
 """
 
 from __future__ import annotations
 
+import reproductions.startup  # noqa: F401  (first: a signal during the imports below ends the run in one line)
+
+# isort: split
 import json
 import math
 import os
 import shutil
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Annotated, Any, NoReturn
 
@@ -23,13 +27,105 @@ from rich.padding import Padding
 from rich.table import Table
 from rich.text import Text
 
+from reproductions.diffing import ABSENT, Difference, SummaryDiff, compare
 from reproductions.errors import ComputationError, InputError, Interrupted
 
+
+def _command_path(ctx: Any) -> str:
+    """`resal fit drop`: the command a click context runs, named as the user typed it (a test runner's root too)."""
+    names = []
+    while ctx is not None and ctx.parent is not None:
+        names.append(ctx.info_name)
+        ctx = ctx.parent
+    return " ".join(["resal", *reversed(names)])
+
+
+def _usage_error(exc: Exception, given: list[str], ctx: Any = None) -> InputError | None:
+    """Click's usage error ``exc`` (an unknown option or command, a missing argument, a value click refused) as one
+    ``InputError``; None for any other exception, and for the help a group given nothing prints. ``given``: the
+    arguments as typed, to quote an unknown option with its value; ``ctx``: the failing command's context when
+    click did not attach it to ``exc``. (typer vendors click in recent versions: the classes are matched by name.)"""
+    kinds = {c.__name__ for c in type(exc).__mro__}
+    if "UsageError" not in kinds or "NoArgsIsHelpError" in kinds:
+        return None
+    ctx = getattr(exc, "ctx", None) or ctx
+    path = _command_path(ctx)
+    if "NoSuchOption" in kinds:
+        opt = getattr(exc, "option_name", "") or "option"
+        takes = sorted(o for q in (ctx.command.params if ctx is not None else ()) for o in q.opts
+                       if o.startswith("--") and o != "--help")
+        at = given.index(opt) if opt in given else -1
+        where = f"{opt} {given[at + 1]}" if 0 <= at < len(given) - 1 and not given[at + 1].startswith("--") else opt
+        guess = list(getattr(exc, "possibilities", None) or ())  # the closest first
+        hint = f"; did you mean {' or '.join(guess)}?" if guess else ""
+        return InputError(where, f"not an option of `{path}`{hint} (it takes "
+                                 f"{', '.join(takes) if takes else 'no option but --help'})")
+    if ctx is not None and hasattr(ctx.command, "commands") and "No such command" in str(exc):
+        name = next((a for a in given if not a.startswith("-")), "")
+        return InputError(f"command '{name}'", f"not a command of `{path}` (expected one of "
+                                               f"{', '.join(ctx.command.commands)}; see {path} --help)")
+    where = getattr(exc, "option_name", None) or path  # an option given without its value: the option
+    return InputError(where, f"{exc.format_message()} (see {path} --help)")  # type: ignore[attr-defined]
+
+
+class _OneLineGroup(typer.core.TyperGroup):
+    """Every usage mistake gets one ``error:`` line and exit 2, as all bad input does, never click's usage screen:
+    the group's own options, its command names, and (around each command it runs) the command's own arguments; so
+    every command of the app, the ones added later too, behaves the same."""
+
+    def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
+        given = list(args)  # click consumes the list
+        try:
+            return super().parse_args(ctx, args)
+        except Exception as exc:
+            err = _usage_error(exc, given, ctx)
+            if err is None:
+                raise
+            _fail(err)
+
+    def resolve_command(self, ctx: Any, args: list[str]) -> Any:
+        try:
+            return super().resolve_command(ctx, args)
+        except Exception as exc:
+            err = _usage_error(exc, list(args), ctx)
+            if err is None:
+                raise
+            _fail(err)
+
+    def invoke(self, ctx: Any) -> Any:
+        given = [*ctx._protected_args, *ctx.args]
+        try:
+            return super().invoke(ctx)
+        except Exception as exc:  # raised while the command parsed its arguments (or, rarely, while it ran)
+            cmd = self.get_command(ctx, given[0]) if given else None
+            sub = typer.Context(cmd, parent=ctx, info_name=given[0]) if cmd is not None else None
+            err = _usage_error(exc, given, sub)
+            if err is None:
+                raise
+            _fail(err)
+
+
 # plain help (no rich markup): typer then skips its rich formatting imports, and `resal --help` stays under 0.3 s
-app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False, rich_markup_mode=None,
+app = typer.Typer(cls=_OneLineGroup, add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  rich_markup_mode=None,
                   help="Reproduce H. Résal (1883), 'Commentaire à la théorie mathématique du jeu de billard'.")
-out_console = Console()
-err_console = Console(stderr=True)
+
+
+def _environ() -> dict[str, str]:
+    """The environment Rich sizes its consoles from, without a COLUMNS or LINES that is not a positive width
+    (``COLUMNS=0`` made every line, error messages included, vanish): then the terminal's own size, or 80."""
+    env = dict(os.environ)
+    for k in ("COLUMNS", "LINES"):
+        v = env.get(k)
+        if v is not None and not (v.isdigit() and int(v) >= 1):
+            del env[k]
+    if env.get("COLUMNS", "").isdigit() and int(env["COLUMNS"]) < 20:  # narrower than one word and its padding
+        env["COLUMNS"] = "20"
+    return env
+
+
+out_console = Console(_environ=_environ())
+err_console = Console(stderr=True, _environ=_environ())
 VERDICT_STYLE = {"reproduced": "green", "differs": "bold red", "not-checkable": "yellow", "consistent": "green",
                  "inconsistent": "bold red", "fitted": "cyan"}
 
@@ -37,8 +133,9 @@ VERDICT_STYLE = {"reproduced": "green", "differs": "bold red", "not-checkable": 
 
 
 def _json(obj: Any) -> str:
-    """Strict JSON (no NaN or Infinity, which are not JSON): a non-finite number is a bug, so it raises."""
-    return json.dumps(obj, indent=2, ensure_ascii=False, allow_nan=False)
+    """Strict JSON (no NaN or Infinity, which are not JSON): a non-finite number is a bug, so it raises. On a
+    stdout that cannot print Unicode, non-ASCII characters are written as JSON escapes."""
+    return json.dumps(obj, indent=2, ensure_ascii=_JSON_ASCII[0], allow_nan=False)
 
 
 def _fail(err: InputError) -> NoReturn:
@@ -246,17 +343,20 @@ def _names(experiments: list[str] | None, all_: bool) -> list[str]:
     return names
 
 
-def _reusable(names: list[str], out: Path) -> dict[str, dict[str, Any]]:
+def _reusable(names: list[str], out: Path, notes: list[str]) -> dict[str, dict[str, Any]]:
     """The summaries of the experiments named by id whose folder in ``out`` was computed from the same config,
-    data files and code (``digest.reusable``): nothing of the physics is imported to know it."""
+    data files and code, with every file resal wrote there as it wrote it (``digest.reuse``): nothing of the
+    physics is imported to know it. A folder whose files were changed by hand adds its line to ``notes``."""
     from reproductions import digest, locate
 
     found, ids = {}, set(locate.experiment_ids())
     for n in names:
         if n in ids and not locate.names_a_file(n):  # named by id (configs/<id>.yaml), as ``api.load`` reads it
-            s = digest.reusable(out / n, locate.config_dir() / f"{n}.yaml")
+            s, why = digest.reuse(out / n, locate.config_dir() / f"{n}.yaml")
             if s is not None and s.get("experiment") == n:
                 found[n] = s
+            elif why:
+                notes.append(f"{why}: computing it again")
     return found
 
 
@@ -311,19 +411,66 @@ def _in_order(names: list[str], reused: dict[str, Any], exps: list[Any]) -> list
 
 def _write_index(out: Path, force: bool, progress: Callable[[str], None]) -> bool:
     """Render the whole-paper files of ``out`` unless they were rendered from the same experiment folders by the
-    same code (``digest.edition_digest``) and are all there; whether they were written."""
+    same code (``digest.edition_digest``) and are all there as resal wrote them; whether they were written. A
+    summary left out of them (not resal's, or changed by hand) is named, one line each."""
     from reproductions import digest
 
     d = digest.edition_digest(p for p in out.iterdir() if p.is_dir() and not p.name.startswith(".")
                               and (p / "summary.json").is_file())
-    if not force and digest.index_current(out, d):
+    current, changed = digest.index_current(out, d)
+    if not force and current:
         return False
     from reproductions import edition
 
+    if changed and not force and (out / digest.INDEX_FILE).is_file():
+        them = "it" if len(changed) == 1 else "them"
+        err_console.print(Text(f"{out}: {', '.join(changed)} changed since resal wrote {them}: writing {them} again"),
+                          soft_wrap=True, highlight=False)
     progress("writing the reader's edition")
-    edition.write_index(out)
+    skipped: list[tuple[Path, str]] = []
+    edition.write_index(out, skipped)
+    for f, why in skipped:
+        err_console.print(Text(f"{f}: {why}; left out of the reader's edition"), soft_wrap=True, highlight=False)
     digest.mark_index(out, d)
     return True
+
+
+def _replacing_notes(exps: list[Any], out: Path, force: bool) -> list[str]:
+    """A line for each experiment folder about to be replaced that holds what the user should hear of: files
+    resal wrote that were changed by hand since (``--force`` replaces them), or the results of another config
+    with the same id (a user's copy of a shipped experiment)."""
+    from reproductions import report
+
+    notes = []
+    for e in exps:
+        folder = out / e.id
+        if not (folder / "summary.json").is_file():
+            continue
+        changed = report.changed_by_hand(folder) if force else None
+        if changed:
+            notes.append(f"{folder}: replacing {', '.join(changed)}, changed since resal wrote "
+                         f"{'it' if len(changed) == 1 else 'them'} (--force)")
+        try:
+            before = json.loads((folder / "summary.json").read_text(encoding="utf-8"))["provenance"]["config"]
+        except (OSError, ValueError, KeyError, TypeError):
+            continue
+        if isinstance(before, str) and Path(before).resolve() != Path(e.path).resolve():
+            notes.append(f"{folder}: held the results of {before}; replacing them with those of {e.path} (same id "
+                         f"'{e.id}'; --out ANOTHER keeps both)")
+    return notes
+
+
+def _seconds(name: str) -> Callable[[str], float]:
+    """A parser of option ``name``: a number of seconds in [0, 86400]."""
+    def parse(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            v = math.nan
+        if not 0 <= v <= 86400:
+            _fail(InputError(f"{name} {text}", "expected a number of seconds in [0, 86400]"))
+        return v
+    return parse
 
 
 @app.command()
@@ -342,6 +489,8 @@ def reproduce(
     force: Annotated[bool, typer.Option("--force", help="recompute every experiment named, even one whose folder "
                                                         "in OUT was computed from the same config, data files and "
                                                         "code (reused otherwise)")] = False,
+    wait: Annotated[float, typer.Option("--wait", help="seconds to wait for another run writing into OUT",
+                                        parser=_seconds("--wait"))] = 60.0,
 ) -> None:
     """Run experiments, compare every printed value, write tables and figures into OUT/<experiment>/ and the
     paper's index, table, reader's edition (index.html) and report.pdf into OUT. One experiment prints its full
@@ -357,7 +506,8 @@ def reproduce(
     try:
         with processes.interruptible():
             names = _names(experiments, all_)
-            reused = {} if force else _reusable(names, out)
+            notes: list[str] = []
+            reused = {} if force else _reusable(names, out, notes)
             # all validated before anything runs or is written
             todo = [n for n in names if n not in reused]
             loaded = list(zip(todo, _load_experiments(todo, out, {n: n for n in reused}), strict=True))
@@ -365,10 +515,15 @@ def reproduce(
                 from reproductions import digest
 
                 for n, e in loaded:
-                    s = digest.reusable(out / e.id, Path(e.path))
+                    s, why = digest.reuse(out / e.id, Path(e.path))
                     if s is not None:
                         reused[n] = s
+                    elif why:
+                        notes.append(f"{why}: computing it again")
             exps = [e for n, e in loaded if n not in reused]
+            notes += _replacing_notes(exps, out, force)
+            for line in dict.fromkeys(notes):  # each once, in order
+                err_console.print(Text(line), soft_wrap=True, highlight=False)
             report.ensure_writable(out)
             report.clean_stale(out)  # what a killed run (SIGKILL) of ours left behind
             jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, max(1, len(exps))))
@@ -383,11 +538,22 @@ def reproduce(
 
                         scratch = report.make_staging(out, "figures")
                         reps = api.run_and_draw(exps, jobs, scratch, status.update)
-                    with report.locked(out):  # another run into the same folder writes before or after, whole
+                    def waiting(pids: list[int]) -> None:
+                        who = f"pid {', '.join(map(str, pids))}" if pids else "another resal run"
+                        err_console.print(Text(f"waiting for {who}, which is writing into {out} (up to {wait:g} s; "
+                                               "--wait SECONDS)"), soft_wrap=True, highlight=False)
+
+                    # another run into the same folder writes before or after, whole
+                    with report.locked(out, wait, waiting):
                         for e, r in zip(exps, reps if exps else [], strict=True):
                             processes.checkpoint()
                             written[e.id] = report.write_reproduction(r, out, drawn=scratch / r.experiment.id)
                             folders.append(written[e.id])
+                            kept = report.foreign_files(written[e.id])
+                            if kept:
+                                shown = ", ".join(kept[:6]) + (f" and {len(kept) - 6} more" if len(kept) > 6 else "")
+                                err_console.print(Text(f"{written[e.id]}: kept {shown} (not written by resal, "
+                                                       "left as they were)"), soft_wrap=True, highlight=False)
                         summaries = [reused[n] if n in reused else
                                      json.loads((written[e.id] / "summary.json").read_text(encoding="utf-8"))
                                      for n, e in _in_order(names, reused, exps)]
@@ -550,7 +716,7 @@ def _print_fits(fits: list[dict[str, Any]], title: str) -> None:
 
 
 # ---- resal fit <kind> ----------------------------------------------------------------------------------------
-class _FitGroup(typer.core.TyperGroup):
+class _FitGroup(_OneLineGroup):
     """`resal fit <kind>`: an unknown kind gets our one-line message, not click's usage screen."""
 
     def resolve_command(self, ctx: Any, args: list[str]) -> Any:
@@ -562,27 +728,22 @@ class _FitGroup(typer.core.TyperGroup):
 
 
 class _FitCommand(typer.core.TyperCommand):
-    """`resal fit <kind>`: an option that this kind does not take gets one line saying so and what it takes."""
+    """`resal fit <kind>`: --sigma given to the ricochet fit is told why it has no use there; every other usage
+    mistake is told by the group, as for every command (``_OneLineGroup``)."""
 
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
         given = list(args)  # click consumes the list
         try:
             return super().parse_args(ctx, args)
-        except Exception as exc:  # click's NoSuchOption (typer vendors click in recent versions: matched by name)
-            if type(exc).__name__ != "NoSuchOption":
-                if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):  # any other usage error
-                    _fail(InputError(f"resal fit {self.name}", f"{exc.format_message()} (see resal fit "
-                                                              f"{self.name} --help)"))
+        except Exception as exc:
+            err = _usage_error(exc, given, ctx)
+            if err is None:
                 raise
-            takes = ", ".join(sorted(o for p in self.params for o in p.opts if o.startswith("--") and o != "--help"))
-            why = ("not used by the ricochet fit, which estimates the noise of positions and instants from their "
-                   "residuals: leave it out" if self.name == "ricochet" and exc.option_name == "--sigma" else
-                   f"not an option of `resal fit {self.name}`")
-            where = exc.option_name
-            at = given.index(where) if where in given else -1
-            if 0 <= at < len(given) - 1 and not given[at + 1].startswith("--"):
-                where = f"{where} {given[at + 1]}"
-            _fail(InputError(where, f"{why} (it takes {takes})"))
+            if self.name == "ricochet" and type(exc).__name__ == "NoSuchOption" and exc.option_name == "--sigma":
+                err = InputError(err.where, "not used by the ricochet fit, which estimates the noise of positions and "
+                                            "instants from their residuals: leave it out"
+                                            + err.message[err.message.index(" (it takes"):])
+            _fail(err)
 
 
 fit_app = typer.Typer(cls=_FitGroup, no_args_is_help=True, rich_markup_mode=None,
@@ -723,8 +884,15 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
 
             opts = FitOptions(noise=noise, resamples=resamples, seed=seed, progress=_Bar(), **kw)
             outcome = fit_csv(name, csv_file, opts)
-        outcome.summary["provenance"] = provenance(csv_file, opts)
+        try:
+            outcome.summary["provenance"] = provenance(csv_file, opts)
+        except OSError as err:
+            raise ComputationError(str(csv_file), f"cannot be read again after the fit ({err.strerror or err}): "
+                                                  "was it deleted or moved while resal ran? nothing written") from None
         folder = write_fit(outcome, out, plot=plot)
+        from reproductions.report import foreign_files
+
+        kept = foreign_files(folder)
     except InputError as err:
         _fail(err)
     except (ArithmeticError, ValueError) as err:
@@ -735,6 +903,9 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
         typer.echo(_json(outcome.summary))
     else:
         _print_fit(outcome.summary, folder)
+    if kept:
+        err_console.print(Text(f"{folder}: kept {', '.join(kept)} (not written by resal, left as they were)"),
+                          soft_wrap=True, highlight=False)
     _print_warnings(outcome.summary["warnings"])
     if strict and outcome.summary["warnings"]:
         err_console.print(Text(f"--strict: {len(outcome.summary['warnings'])} warning(s): exit status 1"),
@@ -751,20 +922,26 @@ def _print_warnings(warnings: list[dict[str, str]]) -> None:
 
 def _check_fit_out(out: Path, data: Path) -> None:
     """``resal fit --out``: a folder that is new, or holds an earlier fit (fit.json), never the data's own folder
-    or the current one (the whole folder is replaced); nothing is created before the fit has succeeded."""
+    or the current one (the folder is swapped whole; the files in it that resal did not write are carried over);
+    nothing is created before the fit has succeeded."""
     where = f"--out {out}"
+    from reproductions.report import dangling_link
+
+    dangling = dangling_link(out)
+    if dangling:
+        _fail(InputError(where, dangling))
     if out.exists() and not out.is_dir():
         _fail(InputError(where, "exists and is not a folder: expected a folder for the fit's files"))
     target = out.resolve()
     if target == Path.cwd().resolve() or target in Path.cwd().resolve().parents:
-        _fail(InputError(where, "is the current folder (or holds it): the fit replaces its output folder whole; "
+        _fail(InputError(where, "is the current folder (or holds it): the fit swaps its output folder whole; "
                                 "name a new folder"))
     if data.exists() and target in data.resolve().parents:
-        _fail(InputError(where, f"holds the data file {data}: the fit replaces its output folder whole; name "
+        _fail(InputError(where, f"holds the data file {data}: the fit swaps its output folder whole; name "
                                 "another folder"))
     if out.is_dir() and any(out.iterdir()) and not (out / "fit.json").is_file():
-        _fail(InputError(where, "holds other files (not an earlier resal fit output, which has fit.json): the fit "
-                                "replaces its output folder whole; name a new folder"))
+        _fail(InputError(where, "holds other files and no fit.json (not an earlier resal fit output): name a new "
+                                "folder, or one that holds an earlier fit"))
     probe = out
     while not probe.exists():
         probe = probe.parent
@@ -866,7 +1043,13 @@ def bench(
 
     names = _known_models(models)
     total = sum(len(registry.MODELS[m].paths) + 1 for m in (names or registry.MODELS))
-    with Progress(console=err_console, transient=True) as bar:
+    try:
+        from reproductions.report import ensure_writable
+
+        ensure_writable(out)  # before minutes of work
+    except InputError as err:
+        _fail(err)
+    with Progress(console=err_console, transient=True, disable=not err_console.is_terminal) as bar:
         task = bar.add_task("benchmark", total=total)
 
         def step(what: str) -> None:
@@ -875,8 +1058,11 @@ def bench(
         rep = bench_mod.run(names, quick=quick, progress=step)
     try:
         written = bench_mod.write(rep, out)
-    except OSError as err:
-        _fail(InputError(f"--out {out}", f"cannot write the benchmark ({err.strerror or err})"))
+    except InputError as err:
+        _fail(err)
+    except OSError as err:  # the environment (a full disk): exit status 1, the earlier benchmark whole
+        _fail(ComputationError(f"--out {out}", f"cannot write the benchmark ({err.strerror or err}); the earlier "
+                                               "one is as it was"))
     groups = []
     for mod in rep["models"]:
         wrong = [v for v in mod["pareto"] if v["faster_and_as_accurate"]]
@@ -922,8 +1108,14 @@ def stress(
 
     names = _known_models(models)
     todo = names or list(registry.MODELS)
+    try:
+        from reproductions.report import ensure_writable
+
+        ensure_writable(out)  # before minutes of work
+    except InputError as err:
+        _fail(err)
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  console=err_console, transient=True) as bar:
+                  console=err_console, transient=True, disable=not err_console.is_terminal) as bar:
         task = bar.add_task("stress", total=len(todo) * scenes)
 
         def step(model: str, k: int) -> None:
@@ -933,8 +1125,11 @@ def stress(
                              referee_scenes=referee_scenes)
     try:
         written = stress_mod.write(rep, out)
-    except OSError as err:
-        _fail(InputError(f"--out {out}", f"cannot write the stress report ({err.strerror or err})"))
+    except InputError as err:
+        _fail(err)
+    except OSError as err:  # the environment (a full disk): exit status 1, the earlier report whole
+        _fail(ComputationError(f"--out {out}", f"cannot write the stress report ({err.strerror or err}); the "
+                                               "earlier one is as it was"))
     groups = []
     for mod in rep["models"]:
         rows = []
@@ -980,40 +1175,77 @@ def _experiment_folders(folder: Path) -> dict[str, Path]:
         raise InputError(str(folder), f"cannot read ({exc.strerror})") from None
 
 
-def _compare_summaries(ref: dict[str, Any], new: dict[str, Any],
-                       rtol: float | None) -> tuple[int, list[tuple[str, Any, Any, str]]]:
-    """(number of quantities compared, differences), each difference (key, reference value or ``_ABSENT``, other
-    value or ``_ABSENT``, its tolerance)."""
+def _compare_files(ref: Path, new: Path, rtol: float | None) -> SummaryDiff:
+    """Two summary.json files read (an ``InputError`` for either that is bad input) and compared; neither is kept,
+    so comparing two results folders holds one pair of summaries in memory at a time."""
+    import gc
+
     from reproductions import golden
 
-    g = golden.golden_object(ref)
-    if rtol is not None:
-        for v in g["values"].values():
-            v["rtol"] = rtol
-    now = golden.flatten(new)
-    lines = golden.compare(g, new)  # the verdict per quantity; the values and labels are ours
-    out = []
-    for k in [*g["values"], *(k for k in now if k not in g["values"])]:
-        if not any(ln.startswith(f"{k}: ") for ln in lines):
-            continue
-        e = g["values"].get(k)
-        tol = "" if e is None else f"rtol {e['rtol']:g}, atol {e['atol']:g}, {e.get('why', '?')}"
-        out.append((k, _ABSENT if e is None else e["value"], now[k][0] if k in now else _ABSENT, tol))
-    return len(g["values"].keys() | now.keys()), out
+    # the summaries are JSON, acyclic: the cyclic collector would only walk their millions of containers again and
+    # again as they are made (a fifth of the time of a large diff)
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        s, t = _read_summary(ref), _read_summary(new)
+        return compare(s["experiment"], golden.flatten(s), t["experiment"], golden.flatten(t), rtol)
+    finally:
+        if was_enabled:
+            gc.enable()
 
 
-_ABSENT = object()  # a quantity one summary does not have
+_JSON = json.JSONEncoder(ensure_ascii=False).encode
 
 
-def _print_differences(diffs: list[tuple[str, Any, Any, str]], a: Path, b: Path) -> None:
-    """Each difference: its key (and tolerance), then one line per side, its path and its value."""
+def _json_value(v: Any) -> str:
+    """``json.dumps(v, ensure_ascii=False)``; a finite float or an int (nearly every value) by its repr, as json
+    spells it, five times faster."""
+    if (type(v) is float and math.isfinite(v)) or type(v) is int:
+        return repr(v)
+    return _JSON(v)
+
+
+def _plain_width() -> int:
+    """The widest line of printable ASCII that rich writes unchanged: the console's width when it writes no style
+    (no terminal), else -1 (a terminal's lines all go through rich)."""
+    return out_console.width if out_console.color_system is None else -1
+
+
+def _print_differences(diffs: Sequence[Difference], a: Path, b: Path) -> None:
+    """Each difference: its key (and tolerance), then one line per side, its path and its value. A line rich would
+    write unchanged goes straight to the console's file, in batches (rich takes ~30 µs a line: minutes for a
+    million differences); any other (a terminal's bold, a line to wrap) through rich, in order."""
     width = max(len(str(a)), len(str(b))) + 1
-    for key, va, vb, tol in diffs:
-        out_console.print(Text(key, style="bold") + Text(f" ({tol})" if tol else ""), highlight=False)
-        for v, side in ((va, a), (vb, b)):
-            shown = "(absent)" if v is _ABSENT else json.dumps(v, ensure_ascii=False)
-            # a path longer than the line stays whole (not folded); the value wraps at its spaces
-            out_console.print(Text(f"  {str(side) + ':':<{width}} {shown}", overflow="ignore"), highlight=False)
+    labels = [f"  {str(side) + ':':<{width}} " for side in (a, b)]
+    plain = _plain_width()  # once: rich measures the terminal each time it is asked
+    batch: list[str] = []
+
+    def flush() -> None:
+        if batch:
+            out_console.file.write("\n".join(batch) + "\n")
+            batch.clear()
+
+    for d in diffs:
+        head = f"{d.key} ({d.tolerance})" if d.tolerance else d.key
+        side_a = labels[0] + ("(absent)" if d.ref is ABSENT else _json_value(d.ref))
+        side_b = labels[1] + ("(absent)" if d.new is ABSENT else _json_value(d.new))
+        whole = head + side_a + side_b
+        if (len(head) <= plain and len(side_a) <= plain and len(side_b) <= plain and whole.isascii()
+                and whole.isprintable()):
+            batch.append(f"{head}\n{side_a}\n{side_b}")
+        else:
+            for i, line in enumerate((head, side_a, side_b)):
+                if len(line) <= plain and line.isascii() and line.isprintable():
+                    batch.append(line)
+                    continue
+                flush()
+                if i == 0:
+                    out_console.print(Text(d.key, style="bold") + Text(head[len(d.key):]), highlight=False)
+                else:  # a path longer than the line stays whole (not folded); the value wraps at its spaces
+                    out_console.print(Text(line, overflow="ignore"), highlight=False)
+        if len(batch) >= 1000:
+            flush()
+    flush()
 
 
 @app.command()
@@ -1025,7 +1257,9 @@ def diff(
 ) -> None:
     """Compare the numbers of two experiments' summaries, provenance ignored; or of every experiment two results
     folders both hold (and name those only one holds). Each difference shows both values, each with its path.
-    Exit status: 0 the same numbers, 1 some differ (or an experiment is in one folder only), 2 bad input."""
+    A summary is refused (as bad input) beyond 16 MiB or 1,048,576 quantities, or with a key twice in one JSON
+    object or an id twice in one list. Exit status: 0 the same numbers, 1 some differ (or the two are of different
+    experiments, or an experiment is in one folder only), 2 bad input."""
     try:
         if rtol is not None and not (math.isfinite(rtol) and 0 <= rtol < 1):
             raise InputError(f"--rtol {rtol:g}", "expected a relative tolerance in [0, 1)")
@@ -1042,26 +1276,25 @@ def diff(
             ea, eb = _experiment_folders(fa), _experiment_folders(fb)
             pairs = {i: (ea[i] / "summary.json", eb[i] / "summary.json") for i in ea if i in eb}
             only_a, only_b = [i for i in ea if i not in eb], [i for i in eb if i not in ea]
-        read = {i: (_read_summary(x), _read_summary(y)) for i, (x, y) in pairs.items()}
+        compared = {i: _compare_files(x, y, rtol) for i, (x, y) in pairs.items()}
     except InputError as err:
         _fail(err)
     differ = bool(only_a or only_b)
     if kind_a == "results":
         out_console.print(Text(f"{len(pairs)} experiment(s) in both {a} and {b}", style="bold"), highlight=False)
-    for i, (ref, new) in read.items():
-        n, diffs = _compare_summaries(ref, new, rtol)
-        differ |= bool(diffs)
+    for i, d in compared.items():
+        differ |= d.differ
         head = f"{i}: " if i else ""
         where = "" if i else f" in {a} and {b}"
-        if ref["experiment"] != new["experiment"]:
-            out_console.print(Text(f"{head}different experiments: {ref['experiment']} in {pairs[i][0]}, "
-                                   f"{new['experiment']} in {pairs[i][1]}"), highlight=False)
-        if diffs:
-            out_console.print(Text(f"{head}{len(diffs)} of {n} quantities differ{where}", style="bold red"),
-                              highlight=False)
-            _print_differences(diffs, *pairs[i])
+        if not d.same_experiment:
+            out_console.print(Text(f"{head}different experiments: {d.ref_experiment} in {pairs[i][0]}, "
+                                   f"{d.new_experiment} in {pairs[i][1]}", style="bold red"), highlight=False)
+        if d.differences:
+            out_console.print(Text(f"{head}{len(d.differences)} of {d.compared} quantities differ{where}",
+                                   style="bold red"), highlight=False)
+            _print_differences(d.differences, *pairs[i])
         else:
-            out_console.print(Text(f"{head}same numbers{where} ({n} quantities)"), highlight=False)
+            out_console.print(Text(f"{head}same numbers{where} ({d.compared} quantities)"), highlight=False)
     for only, side in ((only_a, a), (only_b, b)):
         if only:
             out_console.print(Text(f"only in {side}: ", style="bold red") + Text(", ".join(only)), highlight=False)
@@ -1084,9 +1317,127 @@ def _exit_now(code: int) -> NoReturn:
     raise typer.Exit(code)
 
 
+# where the terminal cannot print Unicode (LANG=C, a latin-1 locale): what a person would write instead
+_ASCII = {"ε": "eps", "ν": "nu", "α": "alpha", "β": "beta", "γ": "gamma", "δ": "delta", "θ": "theta", "λ": "lambda",
+          "μ": "mu", "π": "pi", "ρ": "rho", "σ": "sigma", "τ": "tau", "φ": "phi", "χ": "chi", "ψ": "psi",
+          "ω": "omega", "Δ": "Delta", "Ω": "Omega", "≤": "<=", "≥": ">=", "≈": "~", "≠": "!=", "±": "+/-",
+          "×": "x", "·": ".", "−": "-", "–": "-", "—": "--", "…": "...", "′": "'", "″": "''", "«": '"', "»": '"',
+          "‘": "'", "’": "'", "“": '"', "”": '"', "→": "->", "←": "<-", "√": "sqrt", "∞": "inf", "°": " deg",
+          "²": "^2", "³": "^3", "½": "1/2", "₀": "0", "₁": "1", "₂": "2", "§": "sec.", "µ": "u",
+          "\u00a0": " ", "\u202f": " ", "\u2009": " ", "✓": "ok", "✗": "x", "•": "*", "█": "#", "━": "-"}
+
+
+def _ascii_text(text: str, encoding: str) -> str:
+    """``text`` with each character the stream cannot encode written as a person would in ASCII (``_ASCII``, an
+    accent dropped), or ``?``."""
+    import unicodedata
+
+    out = []
+    if "n°" in text and not _encodes("°", encoding):
+        text = text.replace("n°", "no.")
+    for c in text:
+        try:
+            c.encode(encoding)
+            out.append(c)
+        except UnicodeEncodeError:
+            alt = _ASCII.get(c) or unicodedata.normalize("NFKD", c).encode("ascii", "ignore").decode() or "?"
+            out.append(alt)
+    return "".join(out)
+
+
+def _encodes(text: str, encoding: str) -> bool:
+    try:
+        text.encode(encoding)
+    except (UnicodeEncodeError, LookupError):
+        return False
+    return True
+
+
+class _Transliterating:
+    """A text stream that writes through ``stream`` what its encoding can hold (``_ascii_text``)."""
+
+    def __init__(self, stream: Any) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        self._stream.write(_ascii_text(text, self._stream.encoding or "ascii"))
+        return len(text)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+
+def _cannot_print_unicode(stream: Any) -> bool:
+    return not _encodes("ε≤–é", getattr(stream, "encoding", None) or "ascii")
+
+
+def _streams_for_this_terminal() -> None:
+    """Standard output and error in an encoding that cannot print Unicode get ASCII renderings instead of a
+    UnicodeEncodeError; JSON on such a stdout is written with \\u escapes (exact, unlike a rendering)."""
+    for name in ("stdout", "stderr"):
+        stream = getattr(sys, name)
+        if stream is not None and _cannot_print_unicode(stream):
+            if hasattr(stream, "reconfigure"):
+                stream.reconfigure(errors="replace")
+            setattr(sys, name, _Transliterating(stream))
+            if name == "stdout":
+                _JSON_ASCII[0] = True
+
+
+_JSON_ASCII = [False]
+
+
+def _last_words(text: str, code: int) -> NoReturn:
+    """End the process with one line on stderr (if stderr can still take it) and ``code``, whatever the state of
+    stdout: a stdout that cannot be written (a full disk, a closed pipe) is sent to /dev/null first, so that the
+    interpreter's own flush at exit prints no traceback."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.__stdout__.fileno() if sys.__stdout__ else 1)
+    except (OSError, ValueError, AttributeError):
+        pass
+    if text:
+        try:
+            sys.stderr.write(f"error: {text}\n")
+            sys.stderr.flush()
+        except (OSError, ValueError):
+            pass
+    os._exit(code)
+
+
 def main() -> None:
+    """The ``resal`` command: every command ends in its result, or one line and an exit status — 2 bad input, 1
+    a failure of the environment or of a computation, 128 + n for a signal (SIGINT, SIGTERM, SIGHUP) — never a
+    traceback."""
+    import errno
+
     _PROCESS["own"] = True
-    app()
+    _streams_for_this_terminal()
+    try:
+        from reproductions import processes
+
+        with processes.interruptible():
+            try:
+                app()
+            finally:
+                sys.stdout.flush()
+    except SystemExit:
+        raise
+    except Interrupted as exc:
+        _last_words(f"interrupted ({exc.name}); earlier results left as they were", 128 + exc.signum)
+    except KeyboardInterrupt:
+        _last_words("interrupted (SIGINT); earlier results left as they were", 130)
+    except BrokenPipeError:  # `resal … | head`: the reader has gone; nothing to say
+        _last_words("", 141)
+    except OSError as exc:
+        if exc.errno in (errno.ENOSPC, errno.EIO, errno.EDQUOT, errno.EFBIG):
+            _last_words(f"cannot write ({exc.strerror}): standard output or a file could not take the output", 1)
+        _last_words(f"a failure of the environment: {exc.strerror or exc}", 1)
+    except MemoryError:
+        _last_words("out of memory (a limit on this process's memory? `ulimit -v`)", 1)
+    except ImportError as exc:
+        _last_words(f"cannot load {exc.name or 'a library'} ({exc}); out of memory, or an incomplete install "
+                    "(`make setup`)?", 1)
 
 
 if __name__ == "__main__":

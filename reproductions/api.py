@@ -5,95 +5,275 @@ model (a ``Simulation`` of numpy arrays), ``reproduce(experiment)`` runs one exp
 ``Reproduction``, nothing written), ``fit(kind, data, **options)`` fits your measurements, from a CSV file or from
 arrays (a ``Fit``). Each takes what the matching ``resal`` command takes, in the same units, and raises
 ``InputError`` where it would exit 2. For the CLI: find experiments, run them, write them.
+
+One error contract for every function of ``__all__`` (tests/test_api_contract.py): whatever the arguments hold, a
+call returns, or raises ``InputError`` (bad input, named in the message) or ``ComputationError`` (an ``InputError``
+too: valid input on which a computation failed, or the environment did: out of memory, a worker process killed,
+no temporary folder). Arguments are checked up front, by type before by value. Besides, as documented where they
+arise: what the caller's own code raises (``fn`` of ``parallel_map``, a ``progress`` callback), ``OSError`` of
+``run_and_draw`` writing into its scratch folder (a full disk: the CLI names its --out), and ``Interrupted`` (a
+signal within ``interruptible``). Nothing is printed: the Python warnings raised within a call (numpy's floating-
+point ones among them) are caught. ``fit`` returns them among ``Fit.warnings`` (code ``numerical``); the others
+drop them, what they signal being checked anyway (a non-finite output of ``simulate`` is an ``InputError``).
+Sizes are bounded before anything is allocated: ``MAX_SCENES`` per ``simulate`` call, ``MAX_JOBS`` processes.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import operator
 import os
+import pickle
 import re
 import tempfile
 import typing
-from collections.abc import Callable, Mapping, Sequence
+import warnings
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeVar
 
 import numpy as np
 
+from . import locate, processes
 from .config import Experiment, load_experiment
 from .errors import ComputationError, InputError
 from .experiments import KINDS
 from .fit import options as fit_options
 from .fit.kinds import KINDS as FIT_KINDS
 from .fit.kinds import MAX_RESAMPLES
-from .locate import config_dir, experiment_ids, names_a_file
+from .locate import names_a_file
 from .mechanics import paths, registry
 from .mechanics.paths import PathCode, Regime
 from .models import NOT_COMPUTED, OUTPUTS, solve_scene
 from .models import degrees as to_degrees
-from .processes import checkpoint, interruptible, parallel_map, process_pool
+from .processes import checkpoint, interruptible, process_pool
 from .results import Reproduction
+from .series import MAX_CSV_BYTES
 
-__all__ = ["Fit", "FitEstimate", "FitWarning", "PathCode", "Regime", "Simulation", "checkpoint",
-           "config_dir", "experiment_ids", "fit", "interruptible", "list_experiments", "load", "parallel_map",
-           "reproduce", "run", "run_and_draw", "simulate"]
+__all__ = ["MAX_JOBS", "MAX_ODE_SCENES", "MAX_SCENES", "Fit", "FitEstimate", "FitWarning", "PathCode", "Regime",
+           "Simulation", "checkpoint", "config_dir", "experiment_ids", "fit", "interruptible", "list_experiments",
+           "load", "parallel_map", "reproduce", "run", "run_and_draw", "simulate"]
 
 T = TypeVar("T")
 R = TypeVar("R")
+F = TypeVar("F", bound=Callable[..., Any])
+
+# Scenes one `simulate` call computes, at most: checked on the broadcast shape before any array of the batch is
+# allocated. The heaviest closed-form model (spheres-cloth) peaks at about 0.7 kB per scene, so a million scenes
+# stay under 1 GB, and the cheap models compute them in well under a second. A ricochet scene counts as its n
+# impacts (about 0.1 kB each: n = 1000 weighs what a thousand scenes of another model do).
+MAX_SCENES = 1_000_000
+# Scenes of a path that integrates an ODE per scene (``ode``, ``reference``: cost 1000 and more), a loop in Python of
+# 1 to 20 ms a scene: ten thousand take two minutes at most. Asked for by name only: ``auto`` never runs one (every
+# model has a path exact on every scene, cheaper).
+MAX_ODE_SCENES = 10_000
+MAX_JOBS = 256  # processes, as `resal reproduce --jobs`: a pool forks all its workers at once, a typo must not fork 10⁹
 
 
-def load(name_or_path: str) -> Experiment:
+def _short(text: str, limit: int = 80) -> str:
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
+def _shown(value: Any, limit: int = 80) -> str:
+    """``repr(value)`` for a message: shortened, and never raising (an int of 5000 digits, a hostile ``__repr__``)."""
+    try:
+        text = repr(value)
+    except Exception:
+        return f"<{type(value).__name__}>"
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
+def _a(value: Any) -> str:
+    """What ``value`` is, for "got …": its type (and dtype and shape for an array)."""
+    if value is None:
+        return "None"
+    if isinstance(value, np.ndarray):
+        return f"an array of dtype {value.dtype} and shape {value.shape}"
+    name = type(value).__name__
+    return f"{'an' if name[:1].lower() in 'aeiou' else 'a'} {name}"
+
+
+def _text(where: str, value: Any, what: str) -> str:
+    """``value`` if it is a string (a name: a model, a method, a kind), else ``InputError``."""
+    if not isinstance(value, str):
+        raise InputError(f"{where}={_shown(value)}", f"expected {what}, a string; got {_a(value)}")
+    return value
+
+
+def _path_text(where: str, value: Any, what: str) -> str:
+    """The text of a path or a name given as ``str`` or ``os.PathLike`` (no bytes, no NUL character)."""
+    if not isinstance(value, (str, os.PathLike)):
+        raise InputError(f"{where}={_shown(value)}", f"expected {what}, a string or a path; got {_a(value)}")
+    try:
+        text = os.fspath(value)
+    except Exception as err:  # a PathLike whose __fspath__ fails: the caller's object, said plainly
+        raise InputError(f"{where}={_shown(value)}", f"expected {what}; its __fspath__ failed ({err})") from None
+    if not isinstance(text, str):
+        raise InputError(f"{where}={_shown(value)}", f"expected {what} as text, got a path of {_a(text)}")
+    if "\x00" in text:
+        raise InputError(f"{where}={_shown(text)}", f"expected {what}: a path holds no NUL character")
+    return text
+
+
+def _callback(where: str, value: Any) -> Callable[..., Any] | None:
+    if value is not None and not callable(value):
+        raise InputError(f"{where}={_shown(value)}", f"expected a function or None, got {_a(value)}")
+    return value
+
+
+def _sequence(where: str, value: Any, what: str) -> list[Any]:
+    if not isinstance(value, Sequence) or isinstance(value, (str, bytes, bytearray)):
+        raise InputError(f"{where}={_shown(value)}", f"expected {what} (a list or a tuple), got {_a(value)}")
+    return list(value)
+
+
+def _quiet(fn: F) -> F:
+    """``fn`` under the contract's common part: the warnings raised within caught and dropped (numpy's floating-
+    point errors silenced where they arise), an exhausted memory a ``ComputationError`` naming the call."""
+    @functools.wraps(fn)
+    def call(*args: Any, **kwargs: Any) -> Any:
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            try:
+                return fn(*args, **kwargs)
+            except MemoryError:
+                raise ComputationError(f"{fn.__name__}(…)", "out of memory: this machine could not hold the "
+                                                            "computation's arrays (a smaller one needs less)") from None
+
+    return typing.cast(F, call)
+
+
+@contextmanager
+def _pool_dies_as_computation_error(jobs: int) -> Iterator[None]:
+    """A worker process killed (the kernel's OOM killer, a signal from outside): the environment failed."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    try:
+        yield
+    except BrokenProcessPool as err:
+        raise ComputationError(f"jobs={jobs}", f"a worker process died ({err}); out of memory? fewer jobs need "
+                                               "less") from None
+
+
+def _configs_unreadable(err: OSError) -> InputError:
+    env = os.environ.get("RESAL_CONFIGS")
+    return InputError(f"$RESAL_CONFIGS={_short(env)}" if env else "the experiment files",
+                      f"cannot be read ({err.strerror or err})")
+
+
+def config_dir() -> Path:
+    """Where the experiment files are: the folder ``$RESAL_CONFIGS`` names (``InputError`` if it names none),
+    else the shipped ``configs/``."""
+    try:
+        return locate.config_dir()
+    except OSError as err:  # a $RESAL_CONFIGS too long for the file system, a loop of symlinks
+        raise _configs_unreadable(err) from None
+
+
+def experiment_ids() -> list[str]:
+    """The ids of the experiments in ``config_dir()``, sorted."""
+    try:
+        return locate.experiment_ids()
+    except OSError as err:
+        raise _configs_unreadable(err) from None
+
+
+@_quiet
+def load(name_or_path: str | os.PathLike[str]) -> Experiment:
     """An experiment by id (``configs/<id>.yaml``) or by the path of a YAML file."""
-    p = Path(name_or_path)
+    name = _path_text("experiment", name_or_path, "an experiment id or the path of a YAML file")
+    p = Path(name)
     # a path (the reader says what a FIFO, a device or a folder named *.yaml is), else an id
-    if names_a_file(name_or_path):
-        if not (p.exists() or p.is_symlink()):
-            raise InputError(name_or_path, "no such experiment file")
+    try:
+        is_file = names_a_file(name)
+        present = is_file and (p.exists() or p.is_symlink())
+    except OSError as err:  # a name too long for the file system, a loop of symlinks
+        raise InputError(f"experiment '{_short(name)}'", "neither an experiment id nor a file that can be read "
+                                                        f"({err.strerror or err})") from None
+    if is_file:
+        if not present:
+            raise InputError(name, "no such experiment file")
         return load_experiment(p, KINDS)
     ids = experiment_ids()
-    if name_or_path not in ids:
-        raise InputError(f"experiment '{name_or_path}'",
+    if name not in ids:
+        raise InputError(f"experiment '{_short(name)}'",
                          f"unknown experiment id (expected one of: {', '.join(ids) or 'none found'}, "
                          "or the path of a YAML file)")
-    return load_experiment(config_dir() / f"{name_or_path}.yaml", KINDS)
+    return load_experiment(config_dir() / f"{name}.yaml", KINDS)
 
 
+@_quiet
 def list_experiments() -> list[Experiment]:
+    """Every experiment of ``config_dir()``, loaded."""
     return [load(i) for i in experiment_ids()]
 
 
+def _experiment(where: str, exp: Any) -> Experiment:
+    if not isinstance(exp, Experiment):
+        raise InputError(f"{where}={_shown(exp)}", f"expected an Experiment (api.load(id)), got {_a(exp)}")
+    if not isinstance(exp.kind, str) or exp.kind not in KINDS:
+        raise InputError(f"{where} {_shown(exp.id)}", f"unknown kind {_shown(exp.kind)} (expected one of: "
+                                                      f"{', '.join(KINDS)})")
+    return exp
+
+
+@_quiet
 def run(exp: Experiment) -> Reproduction:
     """Run one experiment: physics, fits and comparisons, no I/O but reading its data files."""
-    return KINDS[exp.kind].run(exp)
+    return KINDS[_experiment("exp", exp).kind].run(exp)
 
 
-def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path,
+def _jobs(jobs: Any) -> int:
+    return _whole("jobs", jobs, 1, MAX_JOBS, "a number of processes")
+
+
+@_quiet
+def _draw(job: tuple[Any, Path]) -> Path:
+    """``report.draw_figure`` with its warnings dropped (matplotlib's), in whichever process draws."""
+    from .report import draw_figure
+
+    return draw_figure(job)
+
+
+@_quiet
+def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path | str,
                  progress: Callable[[str], None] | None = None) -> list[Reproduction]:
-    """Run the experiments and render their figures into ``scratch/<id>/`` on up to ``jobs`` processes, the
-    figures of an experiment starting as soon as it has run (so one long experiment does not idle a core).
-    Results in the input order; exceptions (an ``InputError`` from a data file) propagate."""
-    from .report import draw_figure, prepare_drawing
+    """Run the experiments and render their figures into ``scratch/<id>/`` on up to ``jobs`` processes (1 to
+    ``MAX_JOBS``), the figures of an experiment starting as soon as it has run (so one long experiment does not
+    idle a core). Results in the input order. Exceptions propagate: an ``InputError`` from a data file, what
+    ``progress`` raises, and ``OSError`` when ``scratch`` cannot be written (a full disk: the caller names it)."""
+    from .report import prepare_drawing
 
+    exps = [_experiment(f"exps[{i}]", e) for i, e in enumerate(_sequence("exps", exps, "experiments"))]
+    jobs = _jobs(jobs)
+    scratch = Path(_path_text("scratch", scratch, "a folder"))
+    try:
+        if scratch.exists() and not scratch.is_dir():
+            raise InputError(f"scratch={scratch}", "expected a folder, got a file")
+    except OSError as err:
+        raise InputError(f"scratch={_shown(str(scratch))}", f"cannot be used ({err.strerror or err})") from None
+    progress = _callback("progress", progress)
     prepare_drawing()
     if jobs <= 1:
         reps = []
         for i, e in enumerate(exps, 1):
             checkpoint()
             reps.append(run(e))
-            if progress:
+            if progress is not None:
                 progress(f"running: {i}/{len(exps)} done")
         for r in reps:
             for spec in r.figures:
                 checkpoint()
-                draw_figure((spec, scratch / r.experiment.id))
+                _draw((spec, scratch / r.experiment.id))
         return reps
     from concurrent.futures import FIRST_COMPLETED, wait
 
     reps: list[Reproduction | None] = [None] * len(exps)
-    with process_pool(jobs) as pool:
+    with _pool_dies_as_computation_error(jobs), process_pool(jobs) as pool:
         # the longest first (each kind's declared COST): the last to start should be short, not roze-ricochets
         order = sorted(range(len(exps)), key=lambda i: -float(getattr(KINDS[exps[i].kind], "COST", 1.0)))
         running = {pool.submit(run, exps[i]): i for i in order}
@@ -107,15 +287,37 @@ def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path,
                     i = running.pop(fut)
                     reps[i] = r = fut.result()
                     n_fig += len(r.figures)
-                    drawing |= {pool.submit(draw_figure, (spec, scratch / r.experiment.id)) for spec in r.figures}
+                    drawing |= {pool.submit(_draw, (spec, scratch / r.experiment.id)) for spec in r.figures}
                 else:
                     drawing.discard(fut)
                     fut.result()
                     done_fig += 1
-            if progress:
+            if progress is not None:
                 progress(f"experiments run: {len(exps) - len(running)}/{len(exps)}; figures drawn: {done_fig}/"
                          f"{n_fig}")
     return reps  # type: ignore[return-value]
+
+
+def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
+                 progress: Callable[[int, int], None] | None = None) -> list[R]:
+    """``[fn(x) for x in items]`` on up to ``jobs`` processes (1 to ``MAX_JOBS``), results in the input order;
+    ``progress(done, total)`` is called as items finish. On more than one process, ``fn`` and the items must
+    pickle. What ``fn`` and ``progress`` raise propagates (an ``InputError`` from a data file); ``fn``'s warnings
+    and output are its own."""
+    if not callable(fn):
+        raise InputError(f"fn={_shown(fn)}", f"expected a function, got {_a(fn)}")
+    items = _sequence("items", items, "the items to map")
+    jobs = _jobs(jobs)
+    progress = _callback("progress", progress)
+    if jobs > 1 and len(items) > 1:  # sent to worker processes: refused here, not by a pickling error there
+        for where, x in (("fn", fn), *((f"items[{i}]", x) for i, x in enumerate(items))):
+            try:
+                pickle.dumps(x)
+            except Exception as err:
+                raise InputError(f"{where}={_shown(x)}", f"cannot be sent to a worker process (it does not pickle: "
+                                                         f"{_shown(err, 120)}); jobs=1 runs in this process") from None
+    with _pool_dies_as_computation_error(jobs):
+        return processes.parallel_map(fn, items, jobs, progress)
 
 
 # ---- the Python entry point: simulate, reproduce, fit ---------------------------------------------------------
@@ -171,14 +373,32 @@ def _admissible(p: paths.Param, a: np.ndarray) -> np.ndarray:
 
 
 def _numbers(where: str, value: Any, what: str) -> np.ndarray:
-    """A float array of ``value``: a number or an array of numbers (no booleans, strings or None)."""
-    a = np.asarray(value) if not isinstance(value, (str, bytes)) else np.asarray(None)
+    """A float array of ``value``: a number or a (nested) list or array of numbers; no booleans, strings, None,
+    complex numbers or objects, nothing ragged, empty or masked."""
+    if value is None or isinstance(value, (str, bytes, bytearray, bool, np.bool_)):
+        raise InputError(where, f"expected {what}, got {_a(value)}")
+    if isinstance(value, int) and not math.isfinite(_float_or_inf(value)):
+        raise InputError(where, f"expected {what}, got an int too large for a float (|x| > 1.8e308)")
+    if isinstance(value, np.ma.MaskedArray) and np.ma.is_masked(value):
+        raise InputError(where, f"expected {what}, got a masked array (np.ma.filled gives the numbers)")
+    try:
+        a = np.asarray(value)
+    except Exception:  # ragged nesting (rows of different lengths), an object that refuses conversion
+        raise InputError(where, f"expected {what}, got {_a(value)} that is not one array of numbers (ragged rows, "
+                                "or elements that are not numbers)") from None
     if a.dtype.kind not in "iuf":
-        raise InputError(where, f"expected {what}, got {type(value).__name__}"
-                                + (f" of dtype {a.dtype}" if isinstance(value, np.ndarray) else ""))
+        raise InputError(where, f"expected {what}, got {_a(value)}"
+                                + (f" of dtype {a.dtype}" if not isinstance(value, np.ndarray) and a.ndim else ""))
     if a.size == 0:
         raise InputError(where, f"expected {what}, got an empty array")
     return a.astype(float)
+
+
+def _float_or_inf(n: int) -> float:
+    try:
+        return float(n)
+    except OverflowError:
+        return math.inf
 
 
 def _value_text(name: str, a: np.ndarray, index: tuple[int, ...] | None = None) -> str:
@@ -187,6 +407,31 @@ def _value_text(name: str, a: np.ndarray, index: tuple[int, ...] | None = None) 
     return f"{name}[{', '.join(map(str, index))}]={float(a[index]):g}"
 
 
+def _bounded(m: paths.Model, method: str, values: dict[str, np.ndarray], given: str) -> None:
+    """``InputError`` unless the arrays broadcast into one batch within ``MAX_SCENES`` (``MAX_ODE_SCENES`` for a
+    path that integrates each scene): from their shapes alone, before anything of the batch is allocated."""
+    shapes = [a.shape[:-1] if k in m.vectors else a.shape for k, a in values.items() if k not in m.static]
+    try:
+        batch = np.broadcast_shapes(*shapes)
+    except ValueError:
+        shown = ", ".join(f"{k} {np.shape(v)}" for k, v in values.items())
+        raise InputError(given, f"the arrays do not broadcast to one batch of scenes ({shown})") from None
+    scenes = math.prod(batch)
+    weight = {p.name: int(np.ravel(values[p.name])[0]) if p.name in values else int(p.default or 1)
+              for p in m.params if p.name in m.static and p.integer}  # ricochet's n: its impacts
+    total = scenes * math.prod(weight.values())
+    ode = method != "auto" and m.path(method).cost >= 1000
+    bound = MAX_ODE_SCENES if ode else MAX_SCENES
+    if total > bound:
+        size = " × ".join(map(str, batch)) or "1"
+        each = "".join(f" of {n} {'impacts' if k == 'n' else k} each" for k, n in weight.items())
+        why = (f"the path '{method}' integrates each scene (1 to 20 ms each)" if ode else "under 1 GB of memory")
+        raise InputError(given, f"a batch of {size} = {scenes:,} scenes{each} is more than one call computes: at "
+                                f"most {bound:,} {'scene-impacts' if weight else 'scenes'} ({why}); split it into "
+                                "smaller batches")
+
+
+@_quiet
 def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
     """One scene of a mechanics model, or a batch: ``resal simulate MODEL --set name=value … --method METHOD``.
 
@@ -198,25 +443,31 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
     epsp, nu, f, j) have no default. ``method``: ``"auto"`` (per scene, the cheapest path that declares itself
     exact there) or a path of the model (``exact``, ``elementary``, ``resal``, ``resal-corrected``, ``ode``).
 
-    Returns a ``Simulation``. Raises ``InputError`` for an unknown model, method or parameter, a missing value, a
-    value outside its range (naming the parameter, the scene and the range), arrays that do not broadcast, or a
-    scene the model or the path does not admit; ``ComputationError`` (an ``InputError``) if a solver fails on an
-    admissible scene."""
+    Returns a ``Simulation``. Raises ``InputError`` for a model, method or parameter unknown or not a string, a
+    value not numbers (None, text, ragged lists, …), missing, or outside its range (naming the parameter, the
+    scene and the range), arrays that do not broadcast or make more than ``MAX_SCENES`` scenes (``MAX_ODE_SCENES``
+    by ``ode`` or ``reference``; a ricochet scene counts as its n impacts), or a scene the model or the path does
+    not admit; ``ComputationError`` (an ``InputError``) if a solver fails on an admissible scene. Warnings are
+    dropped: an output that overflows is an ``InputError``."""
+    model = _text("model", model, f"a model's name (one of: {', '.join(registry.MODELS)})")
     if model not in registry.MODELS:
-        raise InputError(f"model '{model}'", f"unknown model (expected one of: {', '.join(registry.MODELS)})")
+        raise InputError(f"model '{_short(model)}'", f"unknown model (expected one of: "
+                                                     f"{', '.join(registry.MODELS)})")
     m = registry.MODELS[model]
     names = [p.name for p in m.paths]
+    method = _text("method", method, f"auto or a path of {model} ({', '.join(names)})")
     if method != "auto" and method not in names:
-        raise InputError(f"method '{method}'", f"{model} has no path '{method}' (expected one of: auto, "
-                                               f"{', '.join(names)})")
+        raise InputError(f"method '{_short(method)}'", f"{model} has no path '{_short(method)}' (expected one of: "
+                                                       f"auto, {', '.join(names)})")
     params = {p.name: p for p in m.params}
     values: dict[str, np.ndarray] = {}
+    given_values: dict[str, np.ndarray] = {}  # as given, checked
     degrees: dict[str, np.ndarray] = {}  # angles as given
     for name, raw in scene.items():
         p = params.get(name)
         if p is None:
-            raise InputError(f"{name}=…", f"unknown parameter '{name}' for {model} (expected one of: "
-                                          f"{', '.join(params)})")
+            raise InputError(f"{_short(name)}=…", f"unknown parameter '{_short(name)}' for {model} (expected one "
+                                                  f"of: {', '.join(params)})")
         q = _scene_param(p)
         vector = name in m.vectors
         a = _numbers(name, raw, "a 3-vector (x, y, z)" if vector else "a number or an array of numbers"
@@ -233,6 +484,7 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
             raise InputError(_value_text(name, a, idx if a.ndim else None),
                              f"'{name}' must be {problem}" + (" (degrees)" if p.cli_degrees else "")
                              + f", got {float(a[idx]):g}")
+        given_values[name] = a
         if p.cli_degrees:
             degrees[name] = a
         values[name] = np.radians(a) if p.cli_degrees else a
@@ -240,15 +492,12 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
     if missing:
         raise InputError(", ".join(missing), f"missing: {model} needs {', '.join(missing)} (no default: give your "
                                              f"measured value, e.g. {missing[0]}=…)")
-    given = f"simulate('{model}', " + ", ".join(_value_text(k, np.asarray(v)) for k, v in scene.items()) + ")"
+    given = f"simulate('{model}', " + ", ".join(_value_text(k, v) for k, v in given_values.items()) + ")"
+    _bounded(m, method, values, given)
     try:
-        with np.errstate(all="ignore"):  # an overflow is reported by solve_scene, as one message
-            full = m.scene(values)
+        full = m.scene(values)
     except paths.PathError as err:
         raise InputError(given, str(err)) from None
-    except ValueError:
-        shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in values.items())
-        raise InputError(given, f"the arrays do not broadcast to one batch of scenes ({shapes})") from None
     res = solve_scene(m, full, method, given, f"method '{method}'", "call")
     path = np.asarray(res.path)
     units = {p.name: _scene_param(p).unit for p in m.params}
@@ -281,6 +530,7 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
                       {k: units[k] for k in [*inputs, *outputs]})
 
 
+@_quiet
 def reproduce(experiment: str | os.PathLike[str]) -> Reproduction:
     """One experiment of the paper, run: ``resal reproduce ID`` without writing anything.
 
@@ -289,8 +539,9 @@ def reproduce(experiment: str | os.PathLike[str]) -> Reproduction:
     ``rel_diff``, ``verdict``, ``reason``, …), ``fits``, and ``figures`` as descriptions (nothing drawn). Nothing is
     written; to write the experiment's folder (summary.json, tables, figures) call
     ``reproductions.report.write_reproduction(rep, Path("results"))``, or run ``resal reproduce ID``. Raises
-    ``InputError`` for an unknown id, a missing file, or a config or data file with a mistake (naming file:line)."""
-    return run(load(os.fspath(experiment)))
+    ``InputError`` for an unknown id, a missing file, or a config or data file with a mistake (naming file:line).
+    Warnings are dropped (a ``Reproduction`` has no place for them; its rows grade every value)."""
+    return run(load(experiment))
 
 
 @dataclass(frozen=True)
@@ -313,7 +564,8 @@ class FitEstimate:
 @dataclass(frozen=True)
 class FitWarning:
     """A finding of the fit's checks: ``code`` (``outlier``, ``speed-dependence``, …, listed in the README) and the
-    message ``resal fit`` prints as ``WARNING [code]: message``."""
+    message ``resal fit`` prints as ``WARNING [code]: message``; or, code ``numerical``, a Python warning raised
+    during the fit (a ``RuntimeWarning`` of numpy: an overflow, a division by zero), its category and text."""
 
     code: str
     message: str
@@ -342,24 +594,32 @@ class Fit:
 
 
 def _whole(name: str, value: Any, lo: int, hi: int, what: str) -> int:
-    try:
-        n = None if isinstance(value, bool) else operator.index(value)
-    except TypeError:
-        n = None
+    """``value`` as an int in [lo, hi]: an int or a numpy integer, not a bool, not a float."""
+    n = operator.index(value) if isinstance(value, (int, np.integer)) and not isinstance(value, bool) else None
     if n is None or not lo <= n <= hi:
-        raise InputError(f"{name}={value!r}", f"expected {what}, a whole number in [{lo:,}, {hi:,}]")
+        raise InputError(f"{name}={_shown(value)}", f"expected {what}, a whole number in [{lo:,}, {hi:,}]"
+                                                    + ("" if n is not None else f", got {_a(value)}"))
     return n
 
 
 def _fit_option(name: str, value: Any) -> Any:
     """One option of ``fit``, checked by ``fit.options.check`` as ``resal fit`` checks it (its Python name; None
-    where the CLI's default is none)."""
+    where the CLI's default is none): a choice is a string, a number an int or a float (numpy's too)."""
     if value is None and name in ("sigma", "sigma_in", "speeds", "M", "Mp", "h0", "sigma_speed", "sigma_dir"):
         return None
     if name == "bootstrap":
         return _whole(name, value, 0, MAX_RESAMPLES, "a number of resamples")
-    if isinstance(value, str) and name not in fit_options.CHOICES:  # a number given as text is not a number here
-        raise InputError(f"{name}={value!r}", f"expected a positive number ({fit_options.NUMBERS[name]}, finite)")
+    if name in fit_options.CHOICES:
+        if not isinstance(value, str):
+            raise InputError(f"{name}={_shown(value)}", f"expected one of {', '.join(fit_options.CHOICES[name])}, "
+                                                        f"got {_a(value)}")
+    elif (not isinstance(value, (int, float, np.integer, np.floating)) or isinstance(value, bool)
+          or not math.isfinite(_float_or_inf(value) if isinstance(value, int) else float(value))):
+        # a number given as text is not a number here; an int beyond floats is not finite
+        raise InputError(f"{name}={_shown(value)}", f"expected a positive number ({fit_options.NUMBERS[name]}, "
+                                                    f"finite)" + ("" if isinstance(value, (int, float, np.number))
+                                                                  and not isinstance(value, bool)
+                                                                  else f", got {_a(value)}"))
     # a text is quoted as Python writes it (noise='gaussian'); a number as it is (k=0.4, and the hint k=2.5)
     return fit_options.check(name, value, lambda t: f"{name}={t!r}" if isinstance(value, str) and t == value
                              else f"{name}={t}")
@@ -367,23 +627,31 @@ def _fit_option(name: str, value: Any) -> Any:
 
 def _columns_csv(columns: Mapping[str, Any], path: Path) -> None:
     """The arrays as a CSV file (header: the column names, units included; a NaN is an empty cell, "not
-    measured" where the kind allows it). Numbers are written exactly (``repr``)."""
+    measured" where the kind allows it). Numbers are written exactly (``repr``); no more than a CSV file
+    ``resal fit`` reads (``series.MAX_CSV_BYTES``)."""
     if not columns:
         raise InputError("data", "no columns: expected a mapping of column name → array, or a CSV path")
     arrays = {}
     for name, values in columns.items():
-        if not isinstance(name, str) or not name.strip() or any(c in name for c in ',"\n\r'):
-            raise InputError(f"column {name!r}", "expected a column name as a CSV header writes it (V0, u1_mps …)")
-        a = _numbers(f"column '{name}'", values, "a 1-D array of numbers, one per trial")
+        if not isinstance(name, str) or not name.strip() or any(c in name for c in ',"\n\r\x00'):
+            raise InputError(f"column {_shown(name)}", "expected a column name as a CSV header writes it (V0, u1_mps "
+                                                       "…)")
+        a = _numbers(f"column '{_short(name)}'", values, "a 1-D array of numbers, one per trial")
         if a.ndim != 1:
-            raise InputError(f"column '{name}'", f"expected a 1-D array, one number per trial, got shape {a.shape}")
+            raise InputError(f"column '{_short(name)}'", f"expected a 1-D array, one number per trial, got shape "
+                                                         f"{a.shape}")
         arrays[name] = a
     lengths = {len(a) for a in arrays.values()}
     if len(lengths) > 1:
         raise InputError("data", "expected columns of one length, got "
-                                 + ", ".join(f"{k}: {len(a)}" for k, a in arrays.items()))
-    rows = zip(*arrays.values(), strict=True)
-    text = [",".join(arrays), *(",".join("" if math.isnan(v) else repr(float(v)) for v in r) for r in rows)]
+                                 + ", ".join(f"{_short(k, 40)}: {len(a)}" for k, a in arrays.items()))
+    text, size = [",".join(arrays)], 0
+    for r in zip(*arrays.values(), strict=True):
+        text.append(",".join("" if math.isnan(v) else repr(float(v)) for v in r))
+        size += len(text[-1]) + 1
+        if size > MAX_CSV_BYTES:  # refused before the whole file is written, as the reader would refuse it
+            raise InputError("data", f"{len(next(iter(arrays.values()))):,} rows make more than {MAX_CSV_BYTES:,} "
+                                     "bytes of CSV, more than resal fit reads: expected fewer trials")
     path.write_text("\n".join(text) + "\n", encoding="utf-8")
 
 
@@ -415,46 +683,81 @@ def fit(kind: str, data: str | os.PathLike[str] | Mapping[str, Any], *, seed: in
     ``sigma_speed``, ``sigma_dir``, ``max_seconds``, ``bootstrap`` (resamples, default 1000 where the kind takes
     it), in the CLI's units; ``seed``: the bootstrap's.
 
-    Returns a ``Fit``; the checks' findings are in ``fit.warnings`` (nothing is printed). Raises ``InputError``
-    for an unknown kind or option, an option out of range, or bad data (naming the column and row: for arrays,
-    ``data row i`` is index i); ``ComputationError`` (an ``InputError``) when the fit itself fails."""
+    Returns a ``Fit``; the checks' findings are in ``fit.warnings`` (nothing is printed), with the Python
+    warnings raised during the fit (code ``numerical``). Raises ``InputError`` for a kind, option or seed unknown,
+    out of range or of the wrong type, or bad data (naming the column and row: for arrays, ``data row i`` is index
+    i); ``ComputationError`` (an ``InputError``) when the fit itself fails, or no temporary file can be written for
+    arrays."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for category in (DeprecationWarning, PendingDeprecationWarning, FutureWarning, ImportWarning):
+            warnings.simplefilter("ignore", category)  # about code (an import's first call), not about the data
+        try:
+            result = _fit(kind, data, seed, options)
+        except MemoryError:
+            raise ComputationError(f"fit({_shown(kind)}, …)", "out of memory: this machine could not hold the fit's "
+                                                        "arrays") from None
+    found = dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught)
+    if not found:
+        return result
+    return dataclasses.replace(result, warnings=result.warnings + tuple(FitWarning("numerical", m) for m in found))
+
+
+def _fit(kind: Any, data: Any, seed: Any, options: dict[str, Any]) -> Fit:
+    kind = _text("kind", kind, f"one of {', '.join(FIT_KINDS)}")
     if kind not in FIT_KINDS:
-        raise InputError(f"kind '{kind}'", f"expected one of {', '.join(FIT_KINDS)}")
+        raise InputError(f"kind '{_short(kind)}'", f"expected one of {', '.join(FIT_KINDS)}")
     takes = FIT_KINDS[kind].options
     for name in options:
         if name not in takes:
             why = ("not used by the ricochet fit, which estimates the noise of positions and instants from their "
                    "residuals: leave it out" if kind == "ricochet" and name == "sigma" else
                    f"not an option of the {kind} fit")
-            raise InputError(f"{name}=…", f"{why} (it takes {', '.join([*takes, 'seed'])})")
+            raise InputError(f"{_short(name)}=…", f"{why} (it takes {', '.join([*takes, 'seed'])})")
     checked = {k: _fit_option(k, v) for k, v in options.items()}
+    seed = _whole("seed", seed, 0, 2**32 - 1, "a seed")
+    if not isinstance(data, Mapping):
+        if not isinstance(data, (str, os.PathLike)):
+            raise InputError("data", f"expected the path of a CSV file or a mapping of column name → array, got "
+                                     f"{_a(data)}")
+        path = Path(_path_text("data", data, "the path of a CSV file"))
+        try:
+            path.exists()
+        except OSError as err:  # a name too long for the file system, a loop of symlinks
+            raise InputError(_short(str(path)), f"cannot be read ({err.strerror or err})") from None
     from .fit.estimators.trials import Noise
     from .fit.run import FitOptions, fit_csv
 
     noise = Noise(checked.pop("noise", "auto"))
     resamples = checked.pop("bootstrap", FitOptions.resamples if "bootstrap" in takes else 0)
-    opts = FitOptions(noise=noise, resamples=resamples, seed=_whole("seed", seed, 0, 2**32 - 1, "a seed"),
-                      **checked)
-    with tempfile.TemporaryDirectory(prefix="resal-fit-") as tmp:
-        if isinstance(data, Mapping):
-            path = Path(tmp) / "data.csv"
-            _columns_csv(data, path)
-        elif isinstance(data, (str, os.PathLike)):
-            path = Path(os.fspath(data))
-        else:
-            raise InputError("data", f"expected the path of a CSV file or a mapping of column name → array, got "
-                                     f"{type(data).__name__}")
+    opts = FitOptions(noise=noise, resamples=resamples, seed=seed, **checked)
+    try:
+        tmp_dir = tempfile.TemporaryDirectory(prefix="resal-fit-") if isinstance(data, Mapping) else None
+    except OSError as err:  # no writable temporary folder: the environment
+        raise ComputationError("data", f"cannot create a temporary folder for the arrays' CSV file "
+                                       f"({err.strerror or err}; TMPDIR names another)") from None
+    try:
+        if tmp_dir is not None:
+            path = Path(tmp_dir.name) / "data.csv"
+            try:
+                _columns_csv(data, path)
+            except OSError as err:  # a full disk
+                raise ComputationError("data", f"cannot write the arrays' temporary CSV file "
+                                               f"({err.strerror or err})") from None
         try:
             outcome = fit_csv(kind, path, opts)
         except InputError as err:
-            if not isinstance(data, Mapping):
+            if tmp_dir is None:
                 raise
             raise type(err)(_relabel(err.where, path), _relabel(err.message, path)) from None
         except (ArithmeticError, ValueError) as err:
-            raise ComputationError("data" if isinstance(data, Mapping) else str(path),
+            raise ComputationError("data" if tmp_dir is not None else str(path),
                                    f"the fit failed: {err}") from None
-        if isinstance(data, Mapping):
+        if tmp_dir is not None:
             outcome = dataclasses.replace(outcome, summary=_relabel(outcome.summary, path))
+    finally:
+        if tmp_dir is not None:
+            tmp_dir.cleanup()
     s = outcome.summary
     estimates = tuple(FitEstimate(f["id"], f["parameter"], f["value"], f["stderr"], tuple(f["ci95"]),
                                   None if f.get("ci95_bootstrap") is None else tuple(f["ci95_bootstrap"]),

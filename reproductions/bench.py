@@ -395,11 +395,26 @@ def write(report: dict, out: Path) -> list[Path]:
     import matplotlib
 
     matplotlib.use("Agg")
+    import shutil
+
     import matplotlib.pyplot as plt
 
-    out.mkdir(parents=True, exist_ok=True)
+    from .report import make_staging, signals_deferred, write_folder
+
+    out.parent.mkdir(parents=True, exist_ok=True)
+    figures = make_staging(out.parent, f"{out.name}.figures")
+    try:
+        return _write(report, out, figures, plt, write_folder, signals_deferred)
+    finally:
+        shutil.rmtree(figures, ignore_errors=True)
+
+
+def _write(report: dict, out: Path, figures: Path, plt: Any, write_folder: Callable[..., Path],
+           signals_deferred: Callable[[], Any]) -> list[Path]:
+    """Draw the figures into ``figures``, then write ``out`` whole (``report.write_folder``: a staging folder
+    swapped in, so a full disk or a signal leaves the previous benchmark whole; the user's files kept)."""
     written = [out / "bench.json", out / "bench.md"]
-    (out / "bench.json").write_text(json.dumps(report, indent=1) + "\n", encoding="utf-8")
+    bench_json = json.dumps(report, indent=1) + "\n"
     lines = ["# Work-precision benchmark", "", f"Timer: {report['timer']}. Machine: {report['machine']}.", ""]
     for mod in report["models"]:
         lines += [f"## {mod['model']} ({mod['section']})", "",
@@ -419,11 +434,12 @@ def write(report: dict, out: Path) -> list[Path]:
         lines += [f"- {v['auto_path']}, {v['regime']} ({v['scenes']} scenes): {v['verdict']}" for v in mod["pareto"]]
         lines.append("")
         fig = _work_precision_figure(plt, mod, report["config"]["rtols"])
-        for ext in ("png", "pdf"):
-            p = out / f"work-precision-{mod['model']}.{ext}"
-            fig.savefig(p, dpi=110, metadata={"Software": None} if ext == "png" else
-                        {"Creator": None, "Producer": None, "CreationDate": None})
-            written.append(p)
+        with signals_deferred():  # never an interruption inside matplotlib's writers
+            for ext in ("png", "pdf"):
+                p = figures / f"work-precision-{mod['model']}.{ext}"
+                fig.savefig(p, dpi=110, metadata={"Software": None} if ext == "png" else
+                            {"Creator": None, "Producer": None, "CreationDate": None})
+                written.append(out / p.name)
         plt.close(fig)
     if "direct_impact_ode_tolerances" in report:
         lines += ["## §I: the two-phase contact at a grid of tolerances (DOP853, against eq. 7)", "",
@@ -448,7 +464,7 @@ def write(report: dict, out: Path) -> list[Path]:
         for what in ("cold", "cached"):
             each = ", ".join(f"{r['wall']:.2f}" for r in ma[what]["runs"])
             lines.append(f"| {what} | {ma[what]['median_wall']:.2f} | {ma[what]['median_cpu']:.2f} | {each} |")
-    (out / "bench.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    write_folder(out, {"bench.json": bench_json, "bench.md": "\n".join(lines) + "\n"}, moved=figures)
     return written
 
 

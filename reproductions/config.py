@@ -15,6 +15,7 @@ import math
 import os
 import re
 import stat
+import sys
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -40,12 +41,16 @@ __all__ = [
     "Node",
     "Printed",
     "Source",
+    "comma_problem",
+    "comma_readings",
     "decode_text",
     "load_experiment",
     "parse_number",
+    "printable",
     "read_input",
     "reason_group",
     "shorten",
+    "underflows",
 ]
 
 # Limits on what a reader takes in, checked before any parsing (configs/README.md, "File limits"): the largest
@@ -138,7 +143,9 @@ _FRACTION = re.compile(r"^\s*([+-]?\d+)\s*/\s*(\d+)\s*$")
 
 
 def parse_number(text: Any) -> tuple[float, bool] | None:
-    """A float from a YAML scalar or string; also ``"7/12"`` fractions. Returns (value, exact) or None."""
+    """A float from a YAML scalar or string; also ``"7/12"`` fractions, and ``"0,02"`` (a decimal comma where it is
+    the only reading: ``"1,000"`` may be 1000 or 1.0 and is None, as ``comma_problem`` tells). Returns (value,
+    exact) or None."""
     if isinstance(text, bool) or text is None:
         return None
     try:  # an integer beyond a float (10**400), or of more digits than Python converts, is no number here
@@ -151,10 +158,59 @@ def parse_number(text: Any) -> tuple[float, bool] | None:
             if m:
                 den = int(m.group(2))
                 return (float(Fraction(int(m.group(1)), den)), True) if den else None
-            return float(text.strip().replace(",", ".")), False
+            if "," in text:  # a decimal comma only where it is the one reading (0,02); 1,000 is not guessed at
+                if [what for what, _ in comma_readings(text)] != ["a decimal comma"]:
+                    return None
+                text = text.replace(",", ".")
+            return float(text.strip()), False
     except (ValueError, OverflowError):
         return None
     return None
+
+
+_GROUPED = re.compile(r"[+-]?[1-9]\d{0,2}(?:,\d{3})+(?:\.\d*)?(?:[eE][+-]?\d+)?")  # 1,000 · 12,345.5 · 1,000e3
+_DECIMAL_COMMA = re.compile(r"[+-]?\d+,\d+(?:[eE][+-]?\d+)?")  # 0,5 · 1,000 · 2,5e-3
+_MANTISSA_DIGIT = re.compile(r"^[^eE]*[1-9]")  # a nonzero digit before the exponent, if any
+
+
+def comma_readings(text: str) -> list[tuple[str, str]]:
+    """The ways ``text`` reads as one number with a comma: (``"a thousands separator"``, the number without it)
+    and (``"a decimal comma"``, the number with a point); ``1,000`` has both, ``0,5`` one, ``1,5,3`` none."""
+    t = text.strip()
+    readings = []
+    if _GROUPED.fullmatch(t):
+        readings.append(("a thousands separator", t.replace(",", "")))
+    if _DECIMAL_COMMA.fullmatch(t):
+        x = float(t.replace(",", "."))
+        readings.append(("a decimal comma", repr(x) if math.isfinite(x) else t.replace(",", ".")))
+    return readings
+
+
+def comma_problem(text: str) -> str:
+    """Why ``text``, given for one number, is refused for its comma: the readings it has (``comma_readings``),
+    each written out, and what to write instead. resal never picks one: ``1,000`` is 1000 to one reader and 1.0
+    to another."""
+    readings = comma_readings(text)
+    if len(readings) == 2:
+        (a, x), (b, y) = readings
+        return f"{a} ({x}) or {b} ({y})? write {x} or {y}"
+    if readings:
+        (what, x), = readings
+        return f"{what}? write {x} ({'no separator' if 'thousands' in what else 'a decimal point'})"
+    return "a comma separates only the x,y,z of a vector"
+
+
+def printable(text: str) -> str:
+    """``text`` on one line: every character that is not printable (a newline, a control character) escaped as
+    Python writes it (``\\n``), so that a message quoting it stays one line."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def underflows(text: str, value: float) -> bool:
+    """Whether the literal ``text``, read as ``value``, is nonzero but fell below the smallest normal double
+    (2.2e-308): ``1e-400`` reads as 0, ``5e-324`` as a subnormal; either way no measurement in any unit, and the
+    nonzero value written is lost (refused, as a subnormal is, never taken as 0)."""
+    return abs(value) < sys.float_info.min and _MANTISSA_DIGIT.match(text.strip()) is not None
 
 
 class Node:
@@ -248,6 +304,8 @@ class Node:
         n = self._scalar(key, what)
         value = _construct(n, self.file, self._name(key))
         parsed = parse_number(value)
+        if parsed is None and isinstance(value, str) and "," in value:
+            raise self.fail(f"'{self._name(key)}' must be {what}, got '{shorten(n.value)}': {comma_problem(value)}", n)
         if parsed is None or not math.isfinite(parsed[0]):
             raise self.fail(f"'{self._name(key)}' must be {what}, got '{shorten(n.value)}'", n)
         return parsed[0], parsed[1], n.value, n

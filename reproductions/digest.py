@@ -10,11 +10,14 @@ it, and the libraries that code calls. Its digest is the SHA-256 of
   ``bench``) is not in it: editing it recomputes nothing;
 - resal's version, Python's and the runtime dependencies' (numpy, scipy, matplotlib … as installed).
 
-``summary.json`` records it (``provenance.digest``) with the data files' own digests. A later run recomputes the
-digest from the files as they are now, without importing the physics or parsing the config; when it matches and
-every file the summary lists is there, the folder is reused. ``resal reproduce --force`` recomputes regardless.
-The whole-paper files (index, paper table, HTML, PDF) have their own digest, of every experiment folder's summary
-and figures and of the code that renders them, kept in ``<out>/edition-digest.json``.
+``summary.json`` records it (``provenance.digest``) with the data files' own digests. Every folder resal writes
+also holds ``manifest.json``: each file resal wrote there, with its SHA-256. A later run recomputes the digest from
+the files as they are now, without importing the physics or parsing the config; when it matches and every file of
+the manifest still has the bytes resal wrote, the folder is reused. A file changed by hand (a summary edited, a
+figure replaced) makes the run compute that experiment again and say which file it was. ``resal reproduce
+--force`` recomputes regardless. The whole-paper files (index, paper table, HTML, PDF) have their own digest, of
+every experiment folder's files that resal wrote and of the code that renders them, kept with each whole-paper
+file's SHA-256 in ``<out>/edition-digest.json``.
 """
 
 from __future__ import annotations
@@ -30,9 +33,27 @@ from typing import Any
 
 from . import __version__
 
-__all__ = ["DEPENDENCIES", "EDITION_ROOTS", "EXPERIMENT_ROOTS", "INDEX_FILE", "INDEX_OUTPUTS", "code_digest",
-           "data_files", "edition_digest", "experiment_digest", "file_sha256", "import_closure", "index_current",
-           "mark_index", "record", "reusable"]
+__all__ = [
+    "DEPENDENCIES",
+    "EDITION_ROOTS",
+    "EXPERIMENT_ROOTS",
+    "INDEX_FILE",
+    "INDEX_OUTPUTS",
+    "MANIFEST",
+    "changed_by_hand",
+    "code_digest",
+    "data_files",
+    "edition_digest",
+    "experiment_digest",
+    "file_sha256",
+    "import_closure",
+    "index_current",
+    "mark_index",
+    "read_manifest",
+    "record",
+    "reusable",
+    "reuse",
+]
 
 PACKAGE = Path(__file__).resolve().parent
 DEPENDENCIES = ("numpy", "scipy", "matplotlib", "rich", "typer", "PyYAML")
@@ -171,50 +192,100 @@ def record(config_sha256: str, params: Any) -> dict[str, Any]:
     return {"inputs": experiment_digest(config_sha256, data, code), "code": code, "data": data}
 
 
-def reusable(folder: Path, config: Path) -> dict[str, Any] | None:
-    """The summary of ``folder`` when it was computed from the file ``config`` as it is now, its data files as they
-    are now, with today's code, and every file it lists is there; else None (nothing is ever guessed: a summary
-    that cannot be read, or was written without a digest, is recomputed)."""
+def reuse(folder: Path, config: Path) -> tuple[dict[str, Any] | None, str | None]:
+    """(summary, None) when ``folder`` was computed from the file ``config`` as it is now, its data files as they
+    are now, with today's code, and every file resal wrote there (its manifest) has the bytes it wrote; else
+    (None, why) — ``why`` is None for the ordinary reasons to recompute (no folder yet, an input changed) and a
+    sentence for a folder that resal's outputs were changed in by hand, which the run says. Nothing is ever
+    guessed: a summary that cannot be read, or was written without a digest or a manifest, is recomputed."""
+    changed = changed_by_hand(folder)
+    if changed is None:
+        return None, None
+    if changed:
+        shown = ", ".join(changed[:4]) + (f" and {len(changed) - 4} more" if len(changed) > 4 else "")
+        return None, f"{folder}: {shown} changed since resal wrote {'it' if len(changed) == 1 else 'them'}"
     try:
         summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
         prov = summary["provenance"]
         recorded = prov["digest"]
         if prov.get("config") != str(config) or not isinstance(recorded, dict):
-            return None
+            return None, None
         sha = file_sha256(config)
         data = {str(p): file_sha256(p) for p in recorded.get("data", {})}
         if sha is None or None in data.values():
-            return None
+            return None, None
         if recorded.get("inputs") != experiment_digest(sha, data, code_digest()):
-            return None
+            return None, None
         files = [*_TABLES, *summary.get("figures", [])]
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return None, None
+    listed = read_manifest(folder) or {}
+    return (summary, None) if all(f in listed for f in files) else (None, None)
+
+
+def reusable(folder: Path, config: Path) -> dict[str, Any] | None:
+    """The summary of ``folder`` when it can be reused as it is (``reuse``), else None."""
+    return reuse(folder, config)[0]
+
+
+MANIFEST = "manifest.json"  # in every folder resal writes: the files it wrote there, each with its SHA-256
+
+
+def read_manifest(folder: Path) -> dict[str, str] | None:
+    """The files resal wrote in ``folder`` (name → SHA-256), from its manifest; None when there is none or it is
+    not resal's (then no file of the folder is known to be ours)."""
+    try:
+        m = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+        files = m["files"]
+    except (OSError, ValueError, KeyError, TypeError):
         return None
-    return summary if all((folder / f).is_file() for f in files) else None
+    if not isinstance(files, dict) or not all(isinstance(k, str) and isinstance(v, str) and "/" not in k
+                                              and k not in ("", ".", "..", MANIFEST) for k, v in files.items()):
+        return None
+    return files
+
+
+def changed_by_hand(folder: Path) -> list[str] | None:
+    """The files of ``folder``'s manifest that are missing or whose bytes are not those resal wrote, sorted;
+    None when the folder has no manifest (nothing can be verified)."""
+    files = read_manifest(folder)
+    if files is None:
+        return None
+    return sorted(n for n, sha in files.items() if file_sha256(folder / n) != sha)
 
 
 def edition_digest(folders: Iterable[Path]) -> str:
-    """The digest of the whole-paper files' inputs: each experiment folder's summary and figures (by bytes) and the
-    code that renders them."""
+    """The digest of the whole-paper files' inputs: each experiment folder's files that resal wrote (its manifest;
+    every file when it has none), by bytes, and the code that renders them. A user's notes in a folder change
+    nothing."""
     h = hashlib.sha256(f"code {code_digest(EDITION_ROOTS)}\n".encode())
     for d in sorted(folders):
         h.update(f"folder {d.name}\n".encode())
-        for f in sorted(p for p in d.iterdir() if p.is_file()):
-            h.update(f"{f.name} {file_sha256(f)}\n".encode())
+        listed = read_manifest(d)
+        names = sorted(listed) if listed is not None else sorted(p.name for p in d.iterdir() if p.is_file())
+        for n in names:
+            h.update(f"{n} {file_sha256(d / n)}\n".encode())
     return h.hexdigest()
 
 
-def index_current(out: Path, digest: str) -> bool:
-    """Whether ``out``'s whole-paper files were rendered from inputs of this digest and are all there."""
+def index_current(out: Path, digest: str) -> tuple[bool, list[str]]:
+    """(whether ``out``'s whole-paper files were rendered from inputs of this digest and each still has the bytes
+    resal wrote, the files among them changed by hand since)."""
     try:
-        recorded = json.loads((out / INDEX_FILE).read_text(encoding="utf-8")).get("digest")
+        rec = json.loads((out / INDEX_FILE).read_text(encoding="utf-8"))
+        recorded, files = rec.get("digest"), rec.get("files")
     except (OSError, ValueError, AttributeError):
-        return False
-    return recorded == digest and all((out / f).is_file() for f in INDEX_OUTPUTS)
+        return False, []
+    if not isinstance(files, dict):
+        return False, []
+    changed = sorted(f for f in INDEX_OUTPUTS if file_sha256(out / f) != files.get(f))
+    return recorded == digest and not changed, changed
 
 
 def mark_index(out: Path, digest: str) -> None:
-    """Record that ``out``'s whole-paper files were rendered from inputs of this digest (written whole)."""
+    """Record that ``out``'s whole-paper files were rendered from inputs of this digest, with each one's SHA-256
+    (written whole)."""
     tmp = out / f"{INDEX_FILE}.tmp"
-    tmp.write_text(json.dumps({"digest": digest, "files": list(INDEX_OUTPUTS)}, indent=1) + "\n", encoding="utf-8")
+    files = {f: file_sha256(out / f) for f in INDEX_OUTPUTS}
+    tmp.write_text(json.dumps({"digest": digest, "files": files}, indent=1) + "\n", encoding="utf-8")
     tmp.replace(out / INDEX_FILE)

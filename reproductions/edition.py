@@ -33,6 +33,7 @@ from .report import (
     paper_table_tex,
     parse_source,
     printed_text,
+    signals_deferred,
     today_value,
     tolerance_text,
     verdict_counts,
@@ -632,12 +633,13 @@ def index_html(ed: Edition) -> str:
 
 
 # -- writing a results folder's whole-paper files ----------------------------------------------------------------
-def write_index(out: Path) -> Path:
+def write_index(out: Path, skipped: list[tuple[Path, str]] | None = None) -> Path:
     """``out/index.md`` and ``out/paper-table.{md,csv,tex}`` (``report``), the reader's edition ``out/index.html``
-    and ``out/report.pdf`` from the summaries found under ``out``, each written whole and renamed into place."""
+    and ``out/report.pdf`` from the summaries found under ``out``, each written whole and renamed into place.
+    ``skipped`` receives the summaries left out (not resal's, or changed by hand: ``report.summary_problem``)."""
     from .edition_pdf import write_pdf  # matplotlib: imported only when a report is written
 
-    summaries = _summaries(out)
+    summaries = _summaries(out, skipped)
     rows = paper_rows(summaries)
     path = out / "index.md"
     _atomic_text(path, index_md(summaries))
@@ -646,5 +648,6 @@ def write_index(out: Path) -> Path:
     _atomic_text(out / "paper-table.tex", paper_table_tex(rows))
     ed = build(summaries)
     _atomic_text(out / "index.html", index_html(ed))
-    _atomic_write(out / "report.pdf", lambda fh: write_pdf(ed, out, fh))
+    with signals_deferred():  # a signal waits for the PDF writer (matplotlib) to finish, then ends the run
+        _atomic_write(out / "report.pdf", lambda fh: write_pdf(ed, out, fh))
     return path

@@ -14,11 +14,14 @@ from __future__ import annotations
 import json
 import math
 import sys
+from itertools import repeat
 from pathlib import Path
 from typing import Any
 
-__all__ = ["GOLDEN_DIR", "MAX_SUMMARY_BYTES", "SUMMARY_FIELDS", "TOLERANCES", "check_all", "compare", "flatten",
-           "golden_object", "read_summary", "summary_problem"]
+from .diffing import agrees
+
+__all__ = ["GOLDEN_DIR", "MAX_SUMMARY_BYTES", "MAX_SUMMARY_QUANTITIES", "SUMMARY_FIELDS", "TOLERANCES", "agrees",
+           "check_all", "compare", "flatten", "golden_object", "quantity_count", "read_summary", "summary_problem"]
 
 GOLDEN_DIR = Path(__file__).resolve().parent.parent / "tests" / "golden"
 
@@ -54,13 +57,14 @@ def _entry(value: Any, why: str) -> tuple[Any, float, float, str]:
 def flatten(s: dict[str, Any]) -> dict[str, tuple[Any, float, float, str]]:
     """Every compared quantity of a summary as key → (value, rtol, atol, tolerance class)."""
     out: dict[str, tuple[Any, float, float, str]] = {}
-    for r in s["rows"]:
+    (cf_rtol, cf_atol, _), (code_rtol, code_atol, _) = TOLERANCES["closed-form"], TOLERANCES["code"]
+    for r in s["rows"]:  # (the entries of _entry, spelt out: a summary may hold a million quantities)
+        key = f"rows.{r['id']}."
         for k in ("printed", "computed", "rel_diff", "tolerance"):
-            out[f"rows.{r['id']}.{k}"] = _entry(r[k], "closed-form")
-        out[f"rows.{r['id']}.verdict"] = _entry(r["verdict"], "code")
+            out[key + k] = (r[k], cf_rtol, cf_atol, "closed-form")
+        out[key + "verdict"] = (r["verdict"], code_rtol, code_atol, "code")
         if r["printed"] is None and r["tolerance"] is not None:
-            out[f"rows.{r['id']}.computed"] = (r["computed"], TOLERANCES["closed-form"][0], float(r["tolerance"]),
-                                               "formula")
+            out[key + "computed"] = (r["computed"], cf_rtol, float(r["tolerance"]), "formula")
     for f in s["fits"]:
         key = f"fits.{f['id']}"
         for k in ("value", "stderr", "ci95", "family_range"):
@@ -78,9 +82,10 @@ def flatten(s: dict[str, Any]) -> dict[str, tuple[Any, float, float, str]]:
         if fam is not None and fam["holds"]:  # the ends of a family that fails its check are not determined
             out[f"identifiability.{j}.family.ends"] = _entry(fam["ends"], "fit")
             out[f"identifiability.{j}.family.ranges"] = _entry(fam["ranges"], "fit")
-    for t in s.get("tables", []):
-        for j, row in enumerate(t["rows"]):
-            out[f"tables.{t['name']}.{j}"] = _entry(row, "table")
+    table_rtol, table_atol, _ = TOLERANCES["table"]
+    for t in s.get("tables", []):  # tables.<name>.<j> → (row j, …), made in C: a table may have a million rows
+        keys = map(f"tables.{t['name']}.".__add__, map(str, range(len(t["rows"]))))
+        out.update(zip(keys, zip(t["rows"], repeat(table_rtol), repeat(table_atol), repeat("table")), strict=True))
     for m in s["modern"]:
         out[f"modern.{m['symbol']}.resal"] = _entry(m["resal"], "closed-form")
     for m in s.get("measurements", []):
@@ -103,12 +108,18 @@ SUMMARY_FIELDS: dict[str, tuple[str, ...]] = {
 
 
 MAX_SUMMARY_BYTES = 16 << 20  # 16 MiB: the largest summary.json resal writes is 60 kB
+# the quantities ``flatten`` makes of one summary: resal's largest has 352. 16 MiB alone does not bound them
+# sanely: a table row may be two bytes ("0,"), so 16 MiB of table holds 8 million quantities, each a key and a
+# tuple on each side and (in ``resal diff``) three lines of output. A million, all differing, take ~600 MB and
+# ~6 s of ``resal diff``; two million took 1 GB and 14 s.
+MAX_SUMMARY_QUANTITIES = 1 << 20
 
 
 def read_summary(path: Path) -> dict[str, Any]:
     """A summary.json read for ``resal diff``: a regular UTF-8 file of at most ``MAX_SUMMARY_BYTES``, JSON nested at
-    most ``config.MAX_DEPTH`` levels, with everything ``flatten`` reads; anything else is an ``InputError`` naming
-    the file (a folder, a FIFO, ``/dev/zero``, UTF-16, a NUL byte, an integer of thousands of digits …)."""
+    most ``config.MAX_DEPTH`` levels, no key twice in one object, with everything ``flatten`` reads (ids unique,
+    at most ``MAX_SUMMARY_QUANTITIES`` quantities); anything else is an ``InputError`` naming the file (a folder, a
+    FIFO, ``/dev/zero``, UTF-16, a NUL byte, an integer of thousands of digits, a duplicated key or row id …)."""
     from .config import MAX_DEPTH, decode_text, read_input
     from .errors import InputError
 
@@ -118,8 +129,22 @@ def read_summary(path: Path) -> dict[str, Any]:
     def no_constant(name: str) -> Any:  # resal writes strict JSON: NaN and ±Infinity are no number it wrote
         raise InputError(where, f"not a summary.json file: {name} is not a JSON number (resal writes strict JSON)")
 
+    def unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:  # json.loads would keep the last silently
+        obj = dict(pairs)
+        if len(obj) < len(pairs):
+            seen: set[str] = set()
+            for key, _ in pairs:
+                if key in seen:
+                    break
+                seen.add(key)
+            owner = next((f" (in the object with {f} {obj[f][:60]!r})" for f in ("id", "name", "symbol")
+                          if isinstance(obj.get(f), str) and f != key), "")
+            raise InputError(where, f"not a summary.json file: the key {key[:60]!r} appears twice in one object{owner} "
+                                    "(a JSON reader would keep one of them silently)")
+        return obj
+
     try:
-        obj = json.loads(text, parse_constant=no_constant)
+        obj = json.loads(text, parse_constant=no_constant, object_pairs_hook=unique_keys)
     except json.JSONDecodeError as exc:
         raise InputError(f"{where}:{exc.lineno}", f"not a summary.json file ({exc.msg}, column {exc.colno})") from None
     except RecursionError:
@@ -136,23 +161,26 @@ def read_summary(path: Path) -> dict[str, Any]:
 
 def _depth_problem(obj: Any, limit: int) -> str | None:
     """Arrays and objects nested deeper than ``limit`` (walked without recursion, so any depth is safe)."""
-    todo = [(obj, 1)]
-    while todo:
-        o, d = todo.pop()
-        if isinstance(o, dict | list):
-            if d > limit:
-                return f"nested more than {limit} levels deep (a summary nests 6)"
-            todo.extend((v, d + 1) for v in (o.values() if isinstance(o, dict) else o))
+    level, depth = [obj], 0  # walked level by level: the containers at one depth at a time
+    while level := [o for o in level if isinstance(o, dict | list)]:
+        depth += 1
+        if depth > limit:
+            return f"nested more than {limit} levels deep (a summary nests 6)"
+        level = [v for o in level for v in (o.values() if isinstance(o, dict) else o)]
     return None
 
 
 def summary_problem(s: Any) -> str | None:
-    """None if ``s`` has everything ``flatten`` reads, else what is missing, naming the entry."""
+    """None if ``s`` has everything ``flatten`` reads, of the types it needs, each entry's id once (a ``modern``
+    symbol may repeat, one entry per source, with the same ``resal`` value) and at most ``MAX_SUMMARY_QUANTITIES``
+    quantities; else what is wrong, naming the entry."""
     if not isinstance(s, dict):
         return "expected a JSON object"
     missing = [k for k in ("experiment", "rows", "fits", "modern", "figures") if k not in s]
     if missing:
         return f"expected the keys {', '.join(missing)} of a summary"
+    if not isinstance(s["experiment"], str):
+        return "'experiment' must be a string (an experiment id)"
     for key, fields in SUMMARY_FIELDS.items():
         entries = s.get(key, [])
         if not isinstance(entries, list):
@@ -164,6 +192,13 @@ def summary_problem(s: Any) -> str | None:
             if lacks:
                 name = f" (id '{e['id']}')" if isinstance(e.get("id"), str) else ""
                 return f"{key}[{i}]{name} lacks {', '.join(lacks)} (expected {', '.join(fields)})"
+    problem = _type_problem(s) or _duplicate_problem(s)
+    if problem:
+        return problem
+    n = quantity_count(s)
+    if n > MAX_SUMMARY_QUANTITIES:
+        return (f"{n:,} quantities to compare: expected at most {MAX_SUMMARY_QUANTITIES:,} (the largest summary "
+                "resal writes has a few hundred)")
     fam = [i for i, e in enumerate(s.get("identifiability", [])) if e["family_of_solutions"] is not None and not (
         isinstance(e["family_of_solutions"], dict) and {"kind", "along", "holds", "ends", "ranges"}
         <= e["family_of_solutions"].keys())]
@@ -172,32 +207,66 @@ def summary_problem(s: Any) -> str | None:
     return None
 
 
+def _type_problem(s: dict[str, Any]) -> str | None:
+    """The values ``flatten`` computes with (not only copies) of a type it cannot use, naming the first."""
+    for i, t in enumerate(s.get("tables", [])):
+        if not isinstance(t["rows"], list):
+            return f"tables[{i}].rows must be a list"
+    for i, e in enumerate(s.get("identifiability", [])):
+        if not isinstance(e["parameters"], list):
+            return f"identifiability[{i}].parameters must be a list"
+        if isinstance(e["rank"], bool) or not isinstance(e["rank"], int | float):
+            return f"identifiability[{i}].rank must be a number"
+    for i, r in enumerate(s["rows"]):
+        tol = r["tolerance"]
+        if tol is not None and (isinstance(tol, bool) or not isinstance(tol, int | float) or not _in_float_range(tol)
+                                or tol < 0):  # a formula's tolerance is its absolute tolerance (math.isclose's)
+            return f"rows[{i}].tolerance must be null or a number ≥ 0 within float range (got {json.dumps(tol)[:40]})"
+    return None
+
+
+def _in_float_range(x: int | float) -> bool:
+    try:
+        float(x)
+    except OverflowError:
+        return False
+    return True
+
+
+def _duplicate_problem(s: dict[str, Any]) -> str | None:
+    """An id (a table's name, a symbol) that two entries of one list share: ``flatten`` keys quantities by it, so
+    one would hide the other. A ``modern`` symbol repeats, one entry per modern source: only its ``resal`` is
+    compared, and that must then be the same."""
+    for key, fields in SUMMARY_FIELDS.items():
+        first: dict[str, int] = {}
+        entries = s.get(key, [])
+        for i, e in enumerate(entries):
+            name = str(e[fields[0]])  # as flatten spells it in the key
+            j = first.setdefault(name, i)
+            if j == i:
+                continue
+            if key == "modern":
+                if entries[j]["resal"] == e["resal"]:
+                    continue
+                return (f"modern[{i}]: symbol {name[:60]!r} again (as modern[{j}]) with another resal value "
+                        f"({json.dumps(entries[j]['resal'])[:40]}, then {json.dumps(e['resal'])[:40]})")
+            return f"{key}[{i}]: {fields[0]} {name[:60]!r} again (as {key}[{j}]): each {fields[0]} must be unique"
+    return None
+
+
+def quantity_count(s: dict[str, Any]) -> int:
+    """An upper bound on the quantities ``flatten`` makes of ``s`` (one that ``summary_problem`` accepts), counted
+    without making them."""
+    return (5 * len(s["rows"]) + 5 * len(s["fits"]) + 6 * len(s.get("identifiability", []))
+            + sum(len(t["rows"]) for t in s.get("tables", [])) + len(s["modern"])
+            + 4 * len(s.get("measurements", [])) + 1)
+
+
 def golden_object(s: dict[str, Any]) -> dict[str, Any]:
     reasons = {k: v[2] for k, v in TOLERANCES.items()} | {"formula": FORMULA_REASON}
     return {"experiment": s["experiment"], "tolerances": reasons,
             "values": {k: {"value": v, "rtol": r, "atol": a, "why": w}
                        for k, (v, r, a, w) in sorted(flatten(s).items())}}
-
-
-def _close(a: Any, b: Any, rtol: float, atol: float) -> bool:
-    if isinstance(a, list) and isinstance(b, list):
-        return len(a) == len(b) and all(_close(x, y, rtol, atol) for x, y in zip(a, b, strict=True))
-    if isinstance(a, bool) or isinstance(b, bool) or not isinstance(a, int | float) or not isinstance(b, int | float):
-        return a == b
-    return math.isclose(a, b, rel_tol=rtol, abs_tol=atol)
-
-
-def _same_lines(a: Any, b: Any, atol: float) -> bool:
-    """Lists of directions equal as lines: 1 − |cos θ| ≤ atol for each pair."""
-    if not isinstance(a, list) or not isinstance(b, list) or len(a) != len(b):
-        return False
-    for u, v in zip(a, b, strict=True):
-        if len(u) != len(v):
-            return False
-        nu, nv = math.sqrt(sum(x * x for x in u)), math.sqrt(sum(y * y for y in v))
-        if nu == 0 or nv == 0 or 1 - abs(sum(x * y for x, y in zip(u, v, strict=True))) / (nu * nv) > atol:
-            return False
-    return True
 
 
 def movement(g: dict[str, Any], value: Any) -> float:
@@ -226,16 +295,15 @@ def _movement(a: Any, b: Any, rtol: float, atol: float) -> float:
 
 
 def compare(golden: dict[str, Any], s: dict[str, Any]) -> list[str]:
-    """Differences between a golden object and a summary, one line each; empty when they agree."""
+    """Differences between a golden object and a summary, one line each; empty when they agree. Linear in the
+    quantities: each is looked up in the other side's dict."""
     now = flatten(s)
     diffs = []
     for k, g in golden["values"].items():
         if k not in now:
             diffs.append(f"{k}: in the golden file, missing now")
             continue
-        ok = (_same_lines(g["value"], now[k][0], g["atol"]) if g.get("why") == "direction"
-              else _close(g["value"], now[k][0], g["rtol"], g["atol"]))
-        if not ok:
+        if not agrees(g["value"], now[k][0], g["rtol"], g["atol"], g.get("why")):
             diffs.append(f"{k}: golden {g['value']!r}, now {now[k][0]!r} "
                          f"(rtol {g['rtol']:g}, atol {g['atol']:g}, {g.get('why', '?')})")
     diffs += [f"{k}: new quantity, not in the golden file" for k in now if k not in golden["values"]]

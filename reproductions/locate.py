@@ -7,16 +7,24 @@ import os
 from importlib import resources
 from pathlib import Path
 
-__all__ = ["config_dir", "experiment_ids", "names_a_file"]
+from .errors import InputError
+
+__all__ = ["ENV", "config_dir", "experiment_ids", "names_a_file"]
+
+ENV = "RESAL_CONFIGS"  # the environment variable naming a folder of experiment files, in place of the shipped ones
 
 
 def config_dir() -> Path:
     """Where the experiment files are: ``$RESAL_CONFIGS`` when set; else the package ``reproductions.configs`` found
     by importlib.resources (the repository's ``configs/`` folder, which the wheel ships and the editable install maps,
-    pyproject.toml); else, in a checkout that was never installed, the ``configs/`` folder beside this package."""
-    env = os.environ.get("RESAL_CONFIGS")
+    pyproject.toml); else, in a checkout that was never installed, the ``configs/`` folder beside this package.
+
+    ``$RESAL_CONFIGS`` must name an existing folder; a relative path is taken from the current folder (and returned
+    absolute, so that messages name the folder meant). A file, or a path where nothing is, raises ``InputError``
+    naming the variable: it is never read as a folder with no experiments."""
+    env = os.environ.get(ENV)
     if env:
-        return Path(env)
+        return _env_folder(env)
     try:
         shipped = resources.files("reproductions.configs")
     except ModuleNotFoundError:
@@ -26,8 +34,23 @@ def config_dir() -> Path:
     return Path(__file__).resolve().parent.parent / "configs"
 
 
+def _env_folder(env: str) -> Path:
+    """The folder ``$RESAL_CONFIGS`` names (a relative path: from the current folder), or ``InputError`` saying
+    what is wrong with it."""
+    folder = Path(os.path.abspath(env))
+    if folder.is_dir():
+        return folder
+    where = f"${ENV}={env}"
+    meant = "" if Path(env).is_absolute() else f" (a relative path, taken from the current folder: {folder})"
+    expected = "expected the folder of your experiment files (*.yaml), or leave it unset for the shipped ones"
+    if folder.exists():
+        raise InputError(where, f"is a file, not a folder{meant}: {expected}")
+    raise InputError(where, f"no such folder{meant}: {expected}")
+
+
 def experiment_ids() -> list[str]:
-    """The ids of the experiments in :func:`config_dir` (its ``*.yaml`` files), sorted; none when it is missing."""
+    """The ids of the experiments in :func:`config_dir` (its ``*.yaml`` files), sorted; none when the shipped folder
+    is missing (a ``$RESAL_CONFIGS`` that is no folder raises ``InputError``)."""
     d = config_dir()
     return sorted(p.stem for p in d.glob("*.yaml")) if d.is_dir() else []
 

@@ -8,11 +8,12 @@ no default: no value printed in the paper stands in for a measurement the user d
 from __future__ import annotations
 
 import math
+import sys
 from typing import Any
 
 import numpy as np
 
-from .config import parse_number
+from .config import comma_problem, comma_readings, parse_number, printable, shorten, underflows
 from .errors import ComputationError, InputError
 from .mechanics import paths, registry
 
@@ -117,26 +118,38 @@ def list_models() -> dict[str, Any]:
 
 
 def _parse(m: paths.Model, assignment: str) -> tuple[str, Any]:
-    name, sep, text = assignment.partition("=")
+    """One ``--set name=value``: a number (a comma only between the x,y,z of a vector, never a thousands
+    separator or a decimal comma; no nonzero value that underflows to 0 or a subnormal), in its range."""
+    name, sep, text = printable(assignment).partition("=")  # quoted as one line, whatever was typed
     name = name.strip()
-    where = f"--set {assignment}"
+    where = f"--set {printable(assignment)}"
     if not sep:
         raise InputError(where, "expected name=value")
     param = next((p for p in m.params if p.name == name), None)
     if param is None:
         raise InputError(where, f"unknown parameter '{name}' for {m.name} "
                                 f"(expected one of: {', '.join(p.name for p in m.params)})")
+    if name not in m.vectors and "," in text:
+        raise InputError(where, f"'{name}' is one number, got '{shorten(text)}': {comma_problem(text)}")
     parts = text.split(",") if name in m.vectors else [text]
     if name in m.vectors and len(parts) != 3:
-        raise InputError(where, f"'{name}' is a 3-vector: expected three numbers x,y,z, got '{text}'")
+        one = " or ".join(f"{what} ({x})" for what, x in comma_readings(text))
+        raise InputError(where, f"'{name}' is a 3-vector: expected three numbers x,y,z, got '{text}'"
+                                + (f" (one number with {one}? a vector takes three)" if one else ""))
     values = []
     for part in parts:
         parsed = parse_number(part.strip())
         if parsed is None:
             raise InputError(where, f"'{name}' must be a number, got '{text}'")
         v = parsed[0]
-        problem = paths.Param(name, "", "", None, _cli(param, param.lo), _cli(param, param.hi), param.lo_open,
-                              param.hi_open, integer=param.integer).problem(v)
+        admissible = paths.Param(name, "", "", None, _cli(param, param.lo), _cli(param, param.hi), param.lo_open,
+                                 param.hi_open, integer=param.integer, why=param.why)
+        if underflows(part, v):
+            zero = " (or 0)" if admissible.problem(0.0) is None else ""
+            raise InputError(where, f"'{name}': {part.strip()} is nonzero but below the smallest normal double "
+                                    f"({sys.float_info.min:.1e}), so it reads as {v!r}: expected a value of a "
+                                    f"physical size{zero}")
+        problem = admissible.problem(v)
         if problem:
             raise InputError(where, f"'{name}' must be {problem}" + (" (degrees)" if param.cli_degrees else "")
                              + f", got {text}")

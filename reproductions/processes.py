@@ -13,7 +13,7 @@ from typing import Any, TypeVar
 
 from .errors import Interrupted
 
-__all__ = ["checkpoint", "interruptible", "parallel_map", "process_pool"]
+__all__ = ["STOP_SIGNALS", "checkpoint", "interruptible", "parallel_map", "process_pool"]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -21,10 +21,11 @@ R = TypeVar("R")
 
 @contextmanager
 def interruptible() -> Iterator[None]:
-    """Within the block, SIGTERM (as SIGINT already does) raises an exception in the main thread:
-    ``Interrupted(signum)`` for either signal, raised once (a repeat during the cleanup is ignored), so that the
-    ``finally`` blocks stop the worker processes and remove the staging folders. Forked workers that inherit
-    the handler before ``_worker_init`` runs die of SIGTERM and ignore SIGINT. Main thread only."""
+    """Within the block, SIGTERM and SIGHUP (as SIGINT already does) raise an exception in the main thread:
+    ``Interrupted(signum)`` for any of them (``STOP_SIGNALS``), raised once (a repeat during the cleanup is
+    ignored), so that the ``finally`` blocks stop the worker processes and remove the staging folders. Forked
+    workers that inherit the handler before ``_worker_init`` runs die of SIGTERM or SIGHUP and ignore SIGINT.
+    Main thread only."""
     import threading
 
     if threading.current_thread() is not threading.main_thread():  # signal handlers belong to the main thread
@@ -35,7 +36,7 @@ def interruptible() -> Iterator[None]:
 
     def handler(signum: int, frame: Any) -> None:
         if os.getpid() != owner:  # a forked worker, before _worker_init
-            if signum == signal.SIGTERM:
+            if signum != signal.SIGINT:  # SIGTERM, SIGHUP
                 signal.signal(signum, signal.SIG_DFL)
                 os.kill(os.getpid(), signum)
             return
@@ -47,7 +48,7 @@ def interruptible() -> Iterator[None]:
                 raise Interrupted(signum)
 
     # a signal ignored from the start (SIGINT of a background job, `nohup`-like wrappers) stays ignored
-    sigs = [s for s in (signal.SIGINT, signal.SIGTERM) if signal.getsignal(s) is not signal.SIG_IGN]
+    sigs = [s for s in STOP_SIGNALS if signal.getsignal(s) is not signal.SIG_IGN]
     previous = {s: signal.signal(s, handler) for s in sigs}
     try:
         yield
@@ -70,6 +71,8 @@ def _in_callback(frame: Any) -> bool:
     return False
 
 
+# the signals that end a command the same way: one line, earlier results intact, staging removed, 128 + n
+STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n))
 _RECEIVED: dict[str, int | None] = {"signum": None}  # the signal ``interruptible`` received, if any
 _FORKING = [False]  # True while this process forks (between the at-fork hooks, ours outermost)
 
@@ -104,6 +107,8 @@ def _worker_init(parent: int) -> None:
     stderr open (a SIGTERM test hung in CI that way under load)."""
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "SIGHUP"):  # a hang-up reaches the whole process group too: the parent stops the workers
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
     if sys.platform.startswith("linux"):
         import ctypes
 

@@ -32,23 +32,30 @@ from typing import Any, BinaryIO
 
 from . import __version__, digest
 from .config import MEASUREMENT_VERDICTS, REASON_GROUP_LABELS, REASON_GROUPS, REASONS
-from .errors import InputError
+from .errors import ComputationError, InputError
 from .results import FigureSpec, Reproduction
 
 __all__ = [
+    "MANIFEST",
     "beyond_counts",
     "beyond_text",
+    "changed_by_hand",
     "clean_stale",
     "code_provenance",
+    "dangling_link",
+    "foreign_files",
     "index_md",
     "is_beyond",
     "make_staging",
     "paper_rows",
     "parse_source",
     "provenance",
+    "read_manifest",
     "row_cells",
+    "signals_deferred",
     "staging_name",
     "summary",
+    "summary_problem",
     "today_value",
     "verdict_counts",
     "whose_error",
@@ -563,9 +570,11 @@ def clean_stale(out: Path) -> list[Path]:
 
 
 @contextmanager
-def _signals_deferred() -> Iterator[None]:
-    """SIGINT and SIGTERM wait until the block ends (a swap of two renames is never left half done)."""
-    sigs = {signal.SIGINT, signal.SIGTERM}
+def signals_deferred() -> Iterator[None]:
+    """SIGINT, SIGTERM and SIGHUP wait until the block ends: a swap of two renames is never left half done, and
+    an interruption is never raised inside matplotlib's PDF or PNG writer (whose own cleanup then failed with
+    another exception and a traceback, exit 1 instead of 143: seen once under load in CI)."""
+    sigs = {getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n)}
     if not hasattr(signal, "pthread_sigmask"):
         yield
         return
@@ -600,8 +609,27 @@ def _atomic_text(path: Path, text: str) -> None:
     _atomic_write(path, lambda fh: fh.write(text.encode("utf-8")))
 
 
+def dangling_link(path: Path) -> str | None:
+    """What is wrong with ``path`` (or a folder above it) as a symbolic link that leads nowhere: to a missing
+    target, or round in a loop; None when it is not such a link."""
+    for p in (path, *path.parents):
+        if p.is_symlink():
+            try:
+                p.resolve(strict=True)
+            except RuntimeError:
+                return f"{p} is a symbolic link that loops back on itself: expected a folder"
+            except OSError as exc:
+                if exc.errno == errno.ELOOP:
+                    return f"{p} is a symbolic link that loops back on itself: expected a folder"
+                return f"{p} is a symbolic link to {os.readlink(p)}, which does not exist: expected a folder"
+    return None
+
+
 def ensure_writable(out: Path, where: str = "--out") -> None:
     """Fail early, before any work, when the output folder cannot be created or written."""
+    dangling = dangling_link(out)
+    if dangling:
+        raise InputError(f"{where} {out}", dangling)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -639,33 +667,112 @@ def write_reproduction(rep: Reproduction, out: Path, prov: dict[str, Any] | None
 _SWAP_ATTEMPTS = 20  # renames tried when another run swaps the same folder at the same moment
 
 
+def lock_holders(folder: Path) -> list[int]:
+    """The pids holding a ``flock`` on ``folder`` (Linux's /proc/locks; empty elsewhere or when unknown)."""
+    try:
+        st = folder.stat()
+        lines = Path("/proc/locks").read_text().splitlines()
+    except OSError:
+        return []
+    ident = f"{os.major(st.st_dev):02x}:{os.minor(st.st_dev):02x}:{st.st_ino}"
+    pids = []
+    for ln in lines:
+        f = ln.split()
+        if len(f) >= 6 and f[1] == "FLOCK" and f[5] == ident and f[4].isdigit():
+            pids.append(int(f[4]))
+    return sorted(set(pids) - {os.getpid()})
+
+
 @contextmanager
-def locked(out: Path) -> Iterator[None]:
+def locked(out: Path, wait: float = 60.0, waiting: Callable[[list[int]], None] | None = None,
+           poll: float = 0.05) -> Iterator[None]:
     """An exclusive lock on the folder ``out`` itself (``flock``: no lock file is left, and a killed holder's lock
     goes with its process) while a run writes into it: two runs into one folder write one after the other, and
-    the folder ends as one whole result, the later run's."""
+    the folder ends as one whole result, the later run's. A run that finds the lock held calls ``waiting(pids of
+    the holders)`` once after a second, and gives up after ``wait`` seconds with a ``ComputationError`` naming
+    the holder (a stopped run, Ctrl-Z, holds it for ever)."""
     try:
         import fcntl
     except ImportError:  # not POSIX: the renames alone keep each folder whole
         yield
         return
+    import time
+
     fd = os.open(out, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
     try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
+        start, told = time.monotonic(), False
+        while True:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                break
+            except BlockingIOError:
+                pass
+            waited = time.monotonic() - start
+            if waited >= wait:
+                pids = lock_holders(out)
+                who = f"another resal run (pid {', '.join(map(str, pids))})" if pids else "another resal run"
+                raise ComputationError(f"--out {out}", f"{who} has held this folder for {waited:.0f} s (stopped? "
+                                                       f"`kill -CONT <pid>` resumes it); nothing was written "
+                                                       f"here; --wait SECONDS waits longer")
+            if not told and waited >= 1.0 and waiting is not None:
+                waiting(lock_holders(out))
+                told = True
+            time.sleep(min(poll, max(wait - waited, 0.0)))
         yield
     finally:
         os.close(fd)
 
 
+MANIFEST = digest.MANIFEST
+read_manifest = digest.read_manifest
+changed_by_hand = digest.changed_by_hand
+
+
+def foreign_files(folder: Path) -> list[str]:
+    """The entries of ``folder`` that resal did not write there (not in its manifest): the user's, kept by every
+    rewrite. Without a manifest, every entry is foreign."""
+    ours = set(read_manifest(folder) or ()) | {MANIFEST}
+    try:
+        return sorted(p.name for p in folder.iterdir() if p.name not in ours and not _STAGING_RE.fullmatch(p.name))
+    except OSError:
+        return []
+
+
+def _carry(src: Path, dst: Path) -> None:
+    """``src`` (a user's file, folder or link) appears at ``dst`` too, without being moved: a hard link (a copy
+    where links cannot be made), so that an interruption at any point leaves it in the old folder or both."""
+    if src.is_symlink():
+        os.symlink(os.readlink(src), dst)
+    elif src.is_dir():
+        shutil.copytree(src, dst, symlinks=True, copy_function=_link_or_copy)
+    else:
+        _link_or_copy(src, dst)
+
+
+def _link_or_copy(src: str | Path, dst: str | Path) -> None:
+    try:
+        os.link(src, dst)
+    except OSError:
+        shutil.copy2(src, dst)
+
+
 def write_folder(final: Path, files: dict[str, str], figures: Sequence[FigureSpec] = (),
-                 drawn: Path | None = None) -> Path:
-    """Write the folder ``final`` whole: ``files`` (name → text) and ``figures`` (drawn here, or moved from
-    ``drawn``) go into a staging folder beside it, which is then swapped in; an error or an interruption leaves
-    what was there before."""
+                 drawn: Path | None = None, moved: Path | None = None) -> Path:
+    """Write the folder ``final`` whole: ``files`` (name → text), ``figures`` (drawn here, or moved from
+    ``drawn``) and every file of ``moved`` go into a staging folder beside it, with a manifest of what resal
+    wrote (``manifest.json``), which is then swapped in; an error or an interruption leaves what was there
+    before. resal replaces only what it wrote: every entry of the old folder that its manifest does not list
+    (the user's notes, a folder of theirs) is carried into the new one (``foreign_files`` names them
+    afterwards); a user's file that bears the name of one resal now writes is kept beside it as
+    ``<name>.yours`` (in a folder without a manifest, written before resal kept one, such a file is taken as
+    resal's own earlier output)."""
     out, name = final.parent, final.name
     try:
         stage = make_staging(out, f"{name}.staging")
     except OSError as exc:
+        if exc.errno == errno.ENAMETOOLONG:
+            raise InputError(f"experiment id '{name}'", f"too long for a folder name of this file system "
+                                                        f"({len(name.encode())} bytes): choose a shorter id") from None
         raise InputError(f"--out {out}", f"cannot write the output folder ({exc.strerror})") from None
     old = None
     try:
@@ -673,11 +780,26 @@ def write_folder(final: Path, files: dict[str, str], figures: Sequence[FigureSpe
             (stage / fname).write_text(text, encoding="utf-8")
         for spec in figures:
             if drawn is None:
-                _draw(spec, stage)
+                with signals_deferred():  # matplotlib's writers do not survive an exception raised inside them
+                    _draw(spec, stage)
             else:
                 for ext in ("png", "pdf"):
                     os.replace(drawn / f"{spec.name}.{ext}", stage / f"{spec.name}.{ext}")
-        with _signals_deferred():  # both renames or neither: never a missing folder
+        for f in sorted(moved.iterdir()) if moved is not None else ():  # files made elsewhere (bench's figures)
+            os.replace(f, stage / f.name)
+        written = sorted(p.name for p in stage.iterdir())
+        manifest = {"written_by": "resal", "files": {n: digest.file_sha256(stage / n) for n in written}}
+        (stage / MANIFEST).write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+        if final.is_dir() and not final.is_symlink():
+            legacy = read_manifest(final) is None  # written before manifests: a name resal writes now was its own
+            for n in foreign_files(final):
+                if not (stage / n).exists():
+                    _carry(final / n, stage / n)
+                elif not legacy:
+                    aside = next(a for k in range(1, 10**6) if not (stage / (a := f"{n}.yours{k if k > 1 else ''}"))
+                                 .exists() and not (final / a).exists())
+                    _carry(final / n, stage / aside)
+        with signals_deferred():  # both renames or neither: never a missing folder
             for attempt in range(_SWAP_ATTEMPTS):
                 if final.exists():
                     old = out / staging_name(f"{name}.old")
@@ -709,19 +831,48 @@ def write_folder(final: Path, files: dict[str, str], figures: Sequence[FigureSpe
     return final
 
 
-def _summaries(out: Path) -> list[tuple[str, dict[str, Any]]]:
-    """(folder name, summary) of every experiment written under ``out``, in the paper's order (page, id)."""
+def summary_problem(folder: Path) -> str | None:
+    """Why ``folder/summary.json`` cannot be taken as an experiment's results written by resal, or None: a file of
+    resal's manifest changed by hand, a file that is not JSON, or JSON without what resal's summaries hold."""
+    f = folder / "summary.json"
+    changed = changed_by_hand(folder)
+    if changed:
+        return (f"{', '.join(changed)} changed since resal wrote {'it' if len(changed) == 1 else 'them'} "
+                f"(`resal reproduce {folder.name} --force` writes it again, or remove the folder)")
+    try:
+        s = json.loads(f.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        return f"cannot be read as JSON ({exc})"
+    if not isinstance(s, dict):
+        return "is not a summary written by resal: expected a JSON object"
+    need = {"experiment": str, "source": dict, "rows": list, "figures": list}
+    missing = [k for k, t in need.items() if not isinstance(s.get(k), t)]
+    if not missing and not all(isinstance(r, dict) and {"id", "verdict"} <= r.keys() for r in s["rows"]):
+        missing = ["rows[].id, rows[].verdict"]
+    if missing:
+        return f"is not a summary written by resal: no {', '.join(missing)}"
+    return None
+
+
+def _summaries(out: Path, skipped: list[tuple[Path, str]] | None = None) -> list[tuple[str, dict[str, Any]]]:
+    """(folder name, summary) of every experiment written under ``out``, in the paper's order (page, id). A folder
+    whose summary.json is not resal's, or whose files resal wrote were changed by hand (``summary_problem``), is
+    left out, never a cause to fail: ``skipped`` receives (its summary.json, why)."""
     found = []
     for d in sorted(p for p in out.iterdir() if p.is_dir() and not p.name.startswith(".")):
         f = d / "summary.json"
         if f.is_file():
-            try:
-                found.append((d.name, json.loads(f.read_text(encoding="utf-8"))))
-            except (OSError, ValueError) as exc:  # not written by resal (runs write it whole, then rename)
-                raise InputError(str(f), f"cannot read this summary of the results folder ({exc}): expected a "
-                                         "summary.json written by resal (remove its folder, or name another "
-                                         "--out)") from None
-    return sorted(found, key=lambda x: (x[1]["source"].get("page") or 0, x[1]["experiment"]))
+            why = summary_problem(d)
+            if why is not None:
+                if skipped is not None:
+                    skipped.append((f, why))
+                continue
+            found.append((d.name, json.loads(f.read_text(encoding="utf-8"))))
+    def page(s: dict[str, Any]) -> int:
+        p = s["source"].get("page")
+        return p if isinstance(p, int) else 0
+
+    return sorted(found, key=lambda x: (page(x[1]), x[1]["experiment"]))
 
 
 # -- the paper as a whole: index.md, paper-table.{md,csv,tex}, report.pdf ---------------------------------------

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import decode_text, read_input, shorten
+from .config import comma_problem, decode_text, read_input, shorten, underflows
 from .errors import InputError
 
 __all__ = ["MAX_IMPRINTS", "MAX_MARKERS", "MIN_IMPRINTS", "MIN_MARKERS", "UNITS", "Markers", "Series",
@@ -74,6 +74,15 @@ def _parse_header(written: list[str], known: Sequence[str], dims: dict[str, str]
     return names, units
 
 
+def _no_empty_name(written: list[str], expected: Sequence[str], where: str) -> None:
+    """A header without an empty column name (``V0,V1,``: a trailing comma, or ``V0,,V1``)."""
+    if "" in written:
+        j = written.index("")
+        why = "a trailing comma?" if j == len(written) - 1 else "two commas in a row?"
+        raise InputError(where, f"an empty column name, column #{j + 1} ({why}): expected the column names "
+                                f"{', '.join(expected)}, separated by single commas")
+
+
 def _factor(dims: dict[str, str] | None, name: str, unit: str | None) -> float:
     return 1.0 if unit is None or dims is None else UNITS[dims[name]][unit]
 
@@ -116,6 +125,7 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
             if sep in head:
                 raise InputError(f"{where}:{head_line}", f"the header is separated by {name}: expected commas "
                                                          f"(columns {', '.join(columns)})")
+    _no_empty_name(written, [*columns, *optional], f"{where}:{head_line}")
     header, units = _parse_header(written, [*columns, *optional], dims, f"{where}:{head_line}")
     missing = [c for c in columns if c not in header]
     if missing:
@@ -129,13 +139,17 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
     for line_no, ln in numbered[1:]:
         cells = [c.strip() for c in next(csv.reader([ln]))]
         if len(cells) != len(header):
-            raise InputError(f"{where}:{line_no}", f"expected {len(header)} values, got {len(cells)}")
+            trailing = " (the last one empty: a trailing comma?)" if len(cells) > len(header) and not cells[-1] else ""
+            raise InputError(f"{where}:{line_no}", f"expected {len(header)} values, got {len(cells)}{trailing}")
         for j, (h, w, cell) in enumerate(zip(header, written, cells, strict=True)):
             col = f"column '{w}' (#{j + 1})" if len(header) > 1 else f"column '{w}'"
             shown = shorten(cell)  # a cell of a thousand digits is quoted by its start and its length
             if not cell and h in blank:
                 data[h].append(math.nan)
                 continue
+            if "," in cell:  # a quoted cell, "1,000": never read as 1 or 1000 by a guess
+                raise InputError(f"{where}:{line_no}", f"{col}: expected one number, got '{shown}': "
+                                                       f"{comma_problem(cell)}")
             try:
                 v = float(cell)
             except ValueError:
@@ -143,9 +157,10 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
                 raise InputError(f"{where}:{line_no}", f"{col}: expected a number{empty}, got '{shown}'") from None
             if not math.isfinite(v):
                 raise InputError(f"{where}:{line_no}", f"{col}: expected a finite number, got '{shown}'")
-            if v != 0 and not MIN_MAGNITUDE <= abs(v) <= MAX_MAGNITUDE:
-                raise InputError(f"{where}:{line_no}", f"{col}: {shown} is no measurement in any unit: expected a "
-                                                       f"magnitude between {MIN_MAGNITUDE:g} and {MAX_MAGNITUDE:g} "
+            if (v != 0 or underflows(cell, v)) and not MIN_MAGNITUDE <= abs(v) <= MAX_MAGNITUDE:
+                zero = " (it underflows to 0 in floating point)" if v == 0 else ""
+                raise InputError(f"{where}:{line_no}", f"{col}: {shown} is no measurement in any unit{zero}: expected "
+                                                       f"a magnitude between {MIN_MAGNITUDE:g} and {MAX_MAGNITUDE:g} "
                                                        "(or 0)")
             if h in positive and v <= 0:
                 raise InputError(f"{where}:{line_no}", f"{col}: expected a positive number, got '{shown}'")
@@ -310,6 +325,7 @@ def read_markers(path: Path, allowed: tuple[str, ...], required: tuple[str, ...]
         raise InputError(where, "empty file (expected a header series,psi_deg,angle_deg and one marker per line)")
     head_line, head = numbered[0]
     header = [h.strip() for h in next(csv.reader([head]))]
+    _no_empty_name(header, ("series", "psi_deg", "angle_deg"), f"{where}:{head_line}")
     if header[:3] != ["series", "psi_deg", "angle_deg"] or len(header) > 4 or header[3:] not in ([], ["figure"]):
         raise InputError(f"{where}:{head_line}", f"the header must be series,psi_deg,angle_deg (optionally ,figure), "
                                                  f"got {','.join(header)[:80]}")
@@ -325,6 +341,10 @@ def read_markers(path: Path, allowed: tuple[str, ...], required: tuple[str, ...]
             psi, ang = float(cells[1]), float(cells[2])
         except ValueError:
             raise InputError(f"{where}:{line}", "psi_deg and angle_deg must be numbers (degrees)") from None
+        for j, v in ((1, psi), (2, ang)):
+            if underflows(cells[j], v):
+                raise InputError(f"{where}:{line}", f"{header[j]}: {cells[j][:40]} is no angle in any unit (it "
+                                                    f"underflows to {v!r} in floating point): expected 0 or degrees")
         if not (math.isfinite(psi) and 0.0 < psi < 90.0):
             raise InputError(f"{where}:{line}", f"psi_deg must be an impact angle in (0, 90) degrees (0 = head-on), "
                                                 f"got {cells[1][:40]}")

@@ -3,7 +3,7 @@ beyond the physical range, and eq. (7) of §I over extreme mass ratios (``sweep`
 
 Scenes start from each model's typical sample and are widened parameter by parameter: speeds and spins scaled
 together over 1e-6 … 1e3 m/s, masses over ratios 1e-9 … 1e9, lengths over 1e-3 … 10 m, coefficients at the ends
-of their ranges (ε, ν at 0 and 1; f, j at 0 and up to 10), k over 0.01 … 10 with k = 1, angles grazing and
+of their ranges (ε, ν at 0 and 1; f, j at 0 and up to 10), k over 1.5 (a thin shell) … 10, angles grazing and
 normal, spins zero and huge. Checks per scene and path (``Check``):
 
 - every output finite;
@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import time
 import types
 from collections.abc import Callable, Sequence
@@ -155,10 +154,11 @@ def _widen(m: paths.Model, raw: dict[str, np.ndarray], rng: np.random.Generator,
             a = raw[name]
             raw[name] = np.where(some(), p.lo + edge, np.where(some(), p.hi - edge, a))  # grazing, normal
         elif p.unit == "1" and name in ("k", "kp"):
-            raw[name] = np.where(some(1 / 2), rng.uniform(0.5, 10.0, n), raw[name])
-            # light cores: k down to 0.01 (the cushion's ODE missed its accuracy at k = 0.023, issue 29)
-            raw[name] = np.where(some(1 / 16), 10 ** rng.uniform(-2, -0.3, n), raw[name])
-            raw[name] = np.where(some(), 1.0, raw[name])
+            # k = MR²/I from its least, a thin shell (p.lo: no ball has less), to a heavy core; next to the shell
+            # (within 0.01 … 0.5 of it), and the shell exactly
+            raw[name] = np.where(some(1 / 2), rng.uniform(p.lo, 10.0, n), raw[name])
+            raw[name] = np.where(some(1 / 16), p.lo + 10 ** rng.uniform(-2, -0.3, n), raw[name])
+            raw[name] = np.where(some(), p.lo, raw[name])
         elif p.unit == "1" and p.lo == 0.0 and p.hi == 1.0:  # ε, ν: the ends of the range
             lo = 1e-9 if p.lo_open else 0.0
             raw[name] = np.where(some(), lo, np.where(some(), 1.0, raw[name]))
@@ -752,17 +752,12 @@ def to_markdown(rep: dict) -> str:
 
 
 def write(rep: dict, out: Path) -> list[Path]:
-    """``stress.json`` and ``stress.md`` in ``out``, each through a temporary file and a rename."""
-    out.mkdir(parents=True, exist_ok=True)
-    written = []
-    for name, text in (("stress.json", json.dumps(rep, indent=2, ensure_ascii=False, allow_nan=False) + "\n"),
-                       ("stress.md", to_markdown(rep))):
-        path = out / name
-        tmp = out / f".{name}.{os.getpid()}.tmp"
-        try:
-            tmp.write_text(text, encoding="utf-8")
-            os.replace(tmp, path)
-        finally:
-            tmp.unlink(missing_ok=True)
-        written.append(path)
-    return written
+    """``stress.json`` and ``stress.md`` in ``out``, the folder written whole (``report.write_folder``: a staging
+    folder swapped in; a full disk or a signal leaves the previous report whole, the user's files are kept)."""
+    from .report import write_folder
+
+    out.parent.mkdir(parents=True, exist_ok=True)
+    files = {"stress.json": json.dumps(rep, indent=2, ensure_ascii=False, allow_nan=False) + "\n",
+             "stress.md": to_markdown(rep)}
+    write_folder(out, files)
+    return [out / n for n in files]

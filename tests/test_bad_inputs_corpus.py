@@ -1,6 +1,7 @@
 """The bad-input corpus (``tests/bad_inputs/cases.yaml``): every mistake gets one clear error.
 
-Each case is run through the command line (typer's runner on ``cli.main.app``) and must end with exit status
+Each case is run through the command line (typer's runner on ``cli.main.app``; with its ``env``, if it has one,
+set) and must end with exit status
 2, exactly one message on stderr that starts ``error: <where>:`` (the file:line, the file or the argument) and
 says what was expected, nothing on stdout, no traceback, and a results folder left byte for byte as it was
 (a private copy, per case, of one folder written by a successful ``resal reproduce coriolis-cushion``).
@@ -64,11 +65,11 @@ def test_corpus_has_enough_distinct_cases() -> None:
     assert len(ids) >= MIN_CASES, f"{len(ids)} cases, expected at least {MIN_CASES}"
     assert len(set(ids)) == len(ids), sorted({i for i in ids if ids.count(i) > 1})
     for c in CASES:
-        assert set(c) == {"id", "what", "args", "where", "expect"}, c["id"]
+        assert set(c) - {"env"} == {"id", "what", "args", "where", "expect"}, c["id"]
         assert re.fullmatch(r"[a-z0-9][a-z0-9-]*", c["id"]), c["id"]
         assert c["what"].strip() and c["where"].strip() and c["expect"], c["id"]
     # distinct mistakes: no two cases run the same command line or expect the same message
-    lines = [tuple(map(str, c["args"])) for c in CASES]
+    lines = [(*map(str, c["args"]), *sorted(c.get("env", {}).items())) for c in CASES]
     assert len(set(lines)) == len(lines)
     messages = [(c["where"], tuple(map(str, c["expect"]))) for c in CASES]
     assert len(set(messages)) == len(messages)
@@ -110,10 +111,12 @@ def test_the_files_the_cases_miss_on_purpose_are_missing() -> None:
 
 # -- every case: one clear error, nothing written --------------------------------------------------------------
 @pytest.mark.parametrize("case", CASES, ids=[c["id"] for c in CASES])
-def test_bad_input(case: dict[str, Any], baseline: Path, tmp_path: Path) -> None:
+def test_bad_input(case: dict[str, Any], baseline: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     out = tmp_path / "res"
     shutil.copytree(baseline, out)
     before = snapshot(out)
+    for name, value in case.get("env", {}).items():  # an environment variable the mistake is in ($RESAL_CONFIGS)
+        monkeypatch.setenv(name, _fill(value, out))
     assert "coriolis-cushion/summary.json" in before and "index.md" in before
     args = [_fill(a, out) for a in case["args"]]
     where = _fill(case["where"], out)

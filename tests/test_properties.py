@@ -52,7 +52,7 @@ def _value(p: paths.Param) -> st.SearchStrategy[float]:
             return _magnitude(-6, 3)
         return _signed(-6, 3 if p.unit == "m/s" else 5)
     if p.name in ("k", "kp"):
-        return st.one_of(st.just(1.0), st.just(2.5), st.floats(0.5, 10.0))
+        return st.one_of(st.just(p.lo), st.just(2.5), st.floats(p.lo, 10.0))  # from a thin shell, the least k
     if p.lo == 0.0 and p.hi == 1.0:
         return st.floats(0.0, 1.0, exclude_min=p.lo_open).filter(lambda x: x > 0 or not p.lo_open)
     if p.lo == 0.0:  # f, j

@@ -8,15 +8,15 @@ from collections.abc import Callable
 from typing import Any
 
 from ..errors import InputError
+from ..mechanics.inertia import K_MIN, K_SOLID, K_WHY
 
 __all__ = ["CHOICES", "K_MIN", "MAX_RADIUS", "NUMBERS", "check"]
 
 MAX_RADIUS = 1.0  # m: a ball radius; one in millimetres (30.5) is refused, not read as 30.5 m
-K_MIN = 1.5  # MR²/I of a thin shell, the least any spherically symmetric ball can have (a homogeneous one: 2.5)
 NUMBERS = {"sigma": "a standard deviation", "sigma_in": "a standard deviation", "g": "gravity in m/s²",
            "M": "a mass in kg", "Mp": "a mass in kg", "h0": "a height in m", "max_seconds": "a time in seconds",
            "sigma_speed": "a relative standard deviation", "sigma_dir": "a standard deviation of an angle",
-           "R": "a ball radius in metres", "k": "MR²/I, 2.5 for a solid ball"}
+           "R": "a ball radius in metres", "k": f"MR²/I, {K_SOLID:g} for a solid ball"}
 CHOICES = {"noise": ("auto", "constant", "proportional"), "speeds": ("signed", "unsigned")}
 
 
@@ -40,7 +40,7 @@ def check(name: str, value: Any, spell: Callable[[str], str]) -> Any:
     if not (math.isfinite(v) and v > 0):
         raise InputError(spell(text), f"expected a positive number ({NUMBERS[name]}, finite)")
     if name == "k" and v < K_MIN:
-        hint = f" ({spell(f'{1 / v:.3g}')}?)" if 1 / v >= K_MIN else ""
-        raise InputError(spell(text), f"expected MR²/I ≥ {K_MIN:g} (a thin shell; a solid ball 2.5): {text} reads "
-                                      f"as I/MR², the inverse convention{hint}")
+        inverse = (f": {text} reads as I/MR², the inverse convention ({spell(f'{1 / v:.3g}')}?)"
+                   if 1 / v >= K_MIN else "")
+        raise InputError(spell(text), f"expected MR²/I ≥ {K_MIN:g} ({K_WHY}){inverse}")
     return v

@@ -121,7 +121,8 @@ def always(scene: Scene) -> np.ndarray:
 class Param:
     """A parameter of a model: SI unit, admissible range, default (None: it must be given; no printed value of
     the paper is ever a default). ``vector``: a 3-vector on the last axis. ``cli_degrees``: an angle stored
-    in radians that the command line takes in degrees."""
+    in radians that the command line takes in degrees. ``why``: the physical reason for the range, which a value
+    outside it is told (k ≥ 1.5: ``inertia.K_WHY``)."""
 
     name: str
     unit: str
@@ -133,17 +134,17 @@ class Param:
     hi_open: bool = False
     cli_degrees: bool = False
     integer: bool = False
+    why: str = ""
 
     def problem(self, value: float) -> str | None:
-        """None if ``value`` is admissible, else what was expected."""
+        """None if ``value`` is admissible, else what was expected (with ``why`` for a value out of range)."""
         if not np.isfinite(value):
             return "a finite number"
         if self.integer and value != int(value):
             return "a whole number"
-        if self.lo is not None and (value < self.lo or (self.lo_open and value == self.lo)):
-            return self.range_text()
-        if self.hi is not None and (value > self.hi or (self.hi_open and value == self.hi)):
-            return self.range_text()
+        below = self.lo is not None and (value < self.lo or (self.lo_open and value == self.lo))
+        if below or (self.hi is not None and (value > self.hi or (self.hi_open and value == self.hi))):
+            return self.range_text() + (f" ({self.why})" if self.why else "")
         return None
 
     def range_text(self) -> str:

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from . import cloth, cue, cushion, impact, plane, reference, spheres
+from .inertia import K_MIN, K_SOLID, K_WHY
 from .paths import (
     ImpactCheck,
     Kind,
@@ -40,7 +41,7 @@ _EPS = {"lo": 0.0, "hi": 1.0}
 _ULP = float(np.finfo(float).eps)
 _NU = {"lo": 0.0, "hi": 1.0, "lo_open": True}
 _R = Param("R", "m", "radius of the ball", 0.0305, lo=0.0, lo_open=True)
-_K = Param("k", "1", "moment of inertia M R²/k (k = 5/2: a homogeneous ball)", 2.5, lo=0.0, lo_open=True)
+_K = Param("k", "1", "moment of inertia M R²/k (k = 5/2: a homogeneous ball)", K_SOLID, lo=K_MIN, why=K_WHY)
 _G = Param("g", "m/s²", "gravity", 9.81, lo=0.0, lo_open=True)
 
 
@@ -432,8 +433,8 @@ def _spheres_model(on_cloth: bool) -> Model:
         Param("Mp", "kg", "mass of the struck ball", 0.21, lo=0.0, lo_open=True),
         Param("R", "m", "radius of the striking ball", 0.0305, lo=0.0, lo_open=True),
         Param("Rp", "m", "radius of the struck ball", 0.0305, lo=0.0, lo_open=True),
-        Param("k", "1", "moment of inertia M R²/k of the striking ball", 2.5, lo=0.0, lo_open=True),
-        Param("kp", "1", "moment of inertia of the struck ball", 2.5, lo=0.0, lo_open=True),
+        Param("k", "1", "moment of inertia M R²/k of the striking ball", K_SOLID, lo=K_MIN, why=K_WHY),
+        Param("kp", "1", "moment of inertia of the struck ball", K_SOLID, lo=K_MIN, why=K_WHY),
         Param("v", "m/s", f"velocity of the striking ball {vec}", None),
         Param("w", "rad/s", "rotation of the striking ball (3-vector)", 0.0),
         Param("vp", "m/s", "velocity of the struck ball (3-vector)", 0.0),
