@@ -360,6 +360,14 @@ def _reusable(names: list[str], out: Path, notes: list[str]) -> dict[str, dict[s
     return found
 
 
+def _exists(p: Path) -> bool:
+    """``p.exists()``, False for a name too long for a path (ENAMETOOLONG, which ``exists`` raises)."""
+    try:
+        return p.exists()
+    except OSError:
+        return False
+
+
 def _load_experiments(names: list[str], out: Path, taken: dict[str, str] | None = None) -> list[Any]:
     """The experiments ``names``, each loaded and validated; two of one id are refused (``taken``: ids already
     written by other names, id → name)."""
@@ -370,7 +378,7 @@ def _load_experiments(names: list[str], out: Path, taken: dict[str, str] | None 
 
     for n in names:  # a folder, a FIFO or a device named in place of a YAML file: said so, never opened blocking
         p = Path(n)
-        if p.exists() and not p.is_file() and (p.suffix in (".yaml", ".yml") or n not in api.experiment_ids()):
+        if _exists(p) and not p.is_file() and (p.suffix in (".yaml", ".yml") or n not in api.experiment_ids()):
             read_input(p, "an experiment file (YAML)", MAX_YAML_BYTES)
     exps = [api.load(n) for n in names]
     seen: dict[str, str] = dict(taken or {})
@@ -628,15 +636,25 @@ def simulate(
     out_console.print(Text(result["model"], style="bold") + Text(f": path {result['path_name']}, regime "
                                                                  f"{result['regime_name']}"))
     out_console.print(Text(result["label"]))
+    rows = [("in" if side == "inputs" and j == 0 else "out" if j == 0 else "", k,
+             _value_text(v, regimes=result["units"][side][k] == "code"), _unit_text(result["units"][side][k]),
+             meaning[k], side == "inputs" and j == len(result[side]) - 1)
+            for side in ("inputs", "outputs") for j, (k, v) in enumerate(result[side].items())]
+    # Names, units and numbers are never cut: on a console too narrow for the table (COLUMNS=20), a line per value
+    # that the terminal wraps (a list of values folds between its numbers, so 24 columns suffice for it).
+    need = sum(min(max(len(r[i]) for r in rows), 24) for i in range(4)) + 12 + 10
+    if out_console.width < need:
+        for tag, name, value, unit, what, _ in rows:
+            if tag:
+                out_console.print(Text("inputs:" if tag == "in" else "outputs:", style="bold"))
+            unit = "" if unit == "1" else unit
+            out_console.print(Text(f"  {name} = {value} {unit}".rstrip() + f" ({what})"), soft_wrap=True)
+        return
     t = _plain_table()
     for c in ("", "name", "value", "unit", "meaning"):
         t.add_column(c, no_wrap=c in ("", "name", "unit"), overflow="fold")
-    for side in ("inputs", "outputs"):
-        values, units = result[side], result["units"][side]
-        for j, (k, v) in enumerate(values.items()):
-            t.add_row("in" if side == "inputs" and j == 0 else "out" if j == 0 else "", k,
-                      _value_text(v, regimes=units[k] == "code"), _unit_text(units[k]), meaning[k],
-                      end_section=side == "inputs" and j == len(values) - 1)
+    for *cells, end in rows:
+        t.add_row(*cells, end_section=end)
     out_console.print(t)
 
 

@@ -27,6 +27,7 @@ import operator
 import os
 import pickle
 import re
+import sys
 import tempfile
 import typing
 import warnings
@@ -484,6 +485,12 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
             raise InputError(_value_text(name, a, idx if a.ndim else None),
                              f"'{name}' must be {problem}" + (" (degrees)" if p.cli_degrees else "")
                              + f", got {float(a[idx]):g}")
+        tiny = (a != 0) & (np.abs(a) < sys.float_info.min)  # as the command line: a subnormal is no measurement
+        if tiny.any():
+            idx = tuple(int(i) for i in np.argwhere(tiny)[0])
+            raise InputError(_value_text(name, a, idx if a.ndim else None),
+                             f"'{name}': {float(a[idx]):g} is nonzero but below the smallest normal double "
+                             f"({sys.float_info.min:.1e}): expected a value of a physical size")
         given_values[name] = a
         if p.cli_degrees:
             degrees[name] = a

@@ -57,6 +57,7 @@ __all__ = [
 # experiment file is 25 kB, its longest line 237 characters, its deepest nesting 6 levels.
 MAX_YAML_BYTES = 1 << 20  # 1 MiB
 MAX_LINE = 10_000  # characters in one line of a YAML or CSV file
+MAX_ID_CHARS = 100  # an experiment id names a folder: 255 bytes less the staging name's ~40
 MAX_DEPTH = 32  # nested mappings and lists in a YAML or JSON document
 MAX_NODES = 100_000  # values of a YAML document, every alias counted as the whole value it stands for
 _FILE_TYPES = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISCHR, "a device"),
@@ -709,6 +710,10 @@ def load_experiment(path: str | Path, kinds: Mapping[str, Any]) -> Experiment:
     eid = root.string("id")
     if not re.fullmatch(r"[a-z0-9][a-z0-9-]*", eid):
         raise root.fail(f"'id' must be lower-case letters, digits and hyphens, got '{eid}'")
+    if len(eid) > MAX_ID_CHARS:  # it names the results folder, and a staging folder's name carries it too
+        raise root.fail(f"'id' is {len(eid)} characters, too long for a folder name (a file system allows 255 "
+                        f"bytes, and resal's staging name adds its own): expected at most {MAX_ID_CHARS}, got "
+                        f"'{shorten(eid)}'")
     kind = root.string("kind", choices=tuple(sorted(KINDS)))
     module = KINDS[kind]
     title = root.string("title")

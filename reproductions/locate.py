@@ -59,4 +59,7 @@ def names_a_file(name: str) -> bool:
     """Whether an experiment argument is the path of a file rather than an id: a YAML name, or anything there but a
     folder (a folder named like an id, results/marble-drop, is not taken for a file)."""
     p = Path(name)
-    return p.suffix in (".yaml", ".yml") or (p.exists() and not p.is_dir())
+    try:
+        return p.suffix in (".yaml", ".yml") or (p.exists() and not p.is_dir())
+    except OSError:  # a name too long for a path (ENAMETOOLONG: exists() raises it) names no file; nor an id
+        return False

@@ -188,6 +188,25 @@ def solve_scene(m: paths.Model, scene: paths.Scene, method: str, given: str, met
     except ArithmeticError as err:  # a solver failed on an admissible scene: ours to fix, said plainly
         raise ComputationError(given, f"the {method} computation failed ({err}); this scene is valid input, so "
                                       f"this is a defect of resal: please report this {report}") from None
+    except ValueError as err:  # scipy's integrator or root finder refused a state (NaN, a first step of 0)
+        if not _from_scipy(err):
+            raise
+        raise ComputationError(given, f"the {method} computation failed: scipy refused the scene's state "
+                                      f"({_first_line(err)}); values this far from a ball's (near the limits of "
+                                      "a double) are past what the numerical integration represents: another "
+                                      f"--method, or please report this {report}") from None
+
+
+def _from_scipy(err: BaseException) -> bool:
+    """Whether ``err`` was raised inside scipy (its innermost frame)."""
+    tb = err.__traceback__
+    while tb is not None and tb.tb_next is not None:
+        tb = tb.tb_next
+    return tb is not None and "scipy" in tb.tb_frame.f_code.co_filename
+
+
+def _first_line(err: BaseException) -> str:
+    return str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
 
 
 def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[str, Any]:

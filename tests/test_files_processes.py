@@ -22,8 +22,15 @@ linux_only = pytest.mark.skipif(not Path("/proc/self/stat").exists() or not hasa
                                 reason="reads /proc and forks workers")
 
 
+def _defaults() -> None:
+    """SIGINT and SIGTERM at their defaults in the child, as a shell starts a command (a background job or a CI
+    runner may ignore them, the child inherits that, and resal keeps a signal ignored from the start)."""
+    for s in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(s, signal.SIG_DFL)
+
+
 def _resal(*args: str, **kw) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "cli.main", *args], cwd=ROOT, **kw)
+    return subprocess.Popen([sys.executable, "-m", "cli.main", *args], cwd=ROOT, preexec_fn=_defaults, **kw)
 
 
 def _snapshot(out: Path) -> dict[str, bytes | None]:

@@ -179,6 +179,15 @@ def _cpu_contention() -> Iterator[None]:
             b.wait()
 
 
+def _as_from_a_terminal() -> None:
+    """In the child before it runs: SIGINT, SIGTERM and SIGHUP at their defaults, as a terminal's shell starts a
+    command. Under ``nohup`` (or a CI runner that ignores SIGHUP) the test's own process ignores them, a child
+    inherits that, and resal rightly keeps a signal ignored from the start: the signal tests would then test
+    nothing (a run that finished counts as a pass)."""
+    for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(s, signal.SIG_DFL)
+
+
 def _handlers_installed(pid: int, timeout: float = 30.0) -> None:
     """Wait until process ``pid`` catches SIGTERM (Linux: bit 15 of SigCgt in /proc/<pid>/status): before that,
     Python itself is starting up, and no program can answer a signal there with anything but dying."""
@@ -205,7 +214,7 @@ def test_a_signal_at_a_random_point_under_cpu_contention(earlier: Path, delay: f
     before = hashes(earlier)
     with _cpu_contention():
         p = subprocess.Popen(_reproduce(earlier), cwd=ROOT, env=_env(), stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, text=True)
+                             stderr=subprocess.PIPE, text=True, preexec_fn=_as_from_a_terminal)
         _handlers_installed(p.pid)
         time.sleep(delay)
         p.send_signal(sig)
@@ -279,7 +288,7 @@ def test_bench_interrupted_says_so_and_leaves_the_earlier_benchmark_whole(earlie
     shutil.copytree(earlier_bench, out)
     before = hashes(out)
     p = subprocess.Popen(_bench(out), cwd=ROOT, env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True)
+                         text=True, preexec_fn=_as_from_a_terminal)
     _handlers_installed(p.pid)
     time.sleep(0.5)
     p.send_signal(sig)
