@@ -360,25 +360,18 @@ def _reusable(names: list[str], out: Path, notes: list[str]) -> dict[str, dict[s
     return found
 
 
-def _exists(p: Path) -> bool:
-    """``p.exists()``, False for a name too long for a path (ENAMETOOLONG, which ``exists`` raises)."""
-    try:
-        return p.exists()
-    except OSError:
-        return False
-
-
 def _load_experiments(names: list[str], out: Path, taken: dict[str, str] | None = None) -> list[Any]:
     """The experiments ``names``, each loaded and validated; two of one id are refused (``taken``: ids already
     written by other names, id → name)."""
     if not names:
         return []
-    from reproductions import api
+    from reproductions import api, locate
     from reproductions.config import MAX_YAML_BYTES, read_input
 
     for n in names:  # a folder, a FIFO or a device named in place of a YAML file: said so, never opened blocking
         p = Path(n)
-        if _exists(p) and not p.is_file() and (p.suffix in (".yaml", ".yml") or n not in api.experiment_ids()):
+        if locate.path_exists(p) and not p.is_file() and (p.suffix in (".yaml", ".yml")
+                                                           or n not in api.experiment_ids()):
             read_input(p, "an experiment file (YAML)", MAX_YAML_BYTES)
     exps = [api.load(n) for n in names]
     seen: dict[str, str] = dict(taken or {})

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from .errors import InputError
 
-__all__ = ["ENV", "config_dir", "experiment_ids", "names_a_file"]
+__all__ = ["ENV", "config_dir", "experiment_ids", "names_a_file", "path_exists"]
 
 ENV = "RESAL_CONFIGS"  # the environment variable naming a folder of experiment files, in place of the shipped ones
 
@@ -59,7 +59,13 @@ def names_a_file(name: str) -> bool:
     """Whether an experiment argument is the path of a file rather than an id: a YAML name, or anything there but a
     folder (a folder named like an id, results/marble-drop, is not taken for a file)."""
     p = Path(name)
+    return p.suffix in (".yaml", ".yml") or (path_exists(p) and not p.is_dir())
+
+
+def path_exists(p: Path) -> bool:
+    """``p.exists()``, False for a name too long for a path (ENAMETOOLONG, which ``exists`` raises): such a name
+    names no file (nor an id)."""
     try:
-        return p.suffix in (".yaml", ".yml") or (p.exists() and not p.is_dir())
-    except OSError:  # a name too long for a path (ENAMETOOLONG: exists() raises it) names no file; nor an id
+        return p.exists()
+    except OSError:
         return False
