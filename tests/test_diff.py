@@ -14,7 +14,8 @@ import pytest
 from cli_helpers import assert_bad, invoke
 from typer.testing import CliRunner, Result
 
-from cli import main
+from cli import common
+from cli import diff as diff_cmd
 from cli.main import app
 from reproductions import diffing, golden
 
@@ -264,7 +265,7 @@ def test_differences_are_written_as_rich_writes_them(tmp_path: Path, monkeypatch
     for a, b in pairs:
         for width in (80, 100):
             fast = _run_at(width, a, b)
-            monkeypatch.setattr(main, "_plain_width", lambda: -1)  # every line through rich
+            monkeypatch.setattr(diff_cmd, "_plain_width", lambda: -1)  # every line through rich
             slow = _run_at(width, a, b)
             monkeypatch.undo()
             monkeypatch.chdir(tmp_path)
@@ -273,11 +274,11 @@ def test_differences_are_written_as_rich_writes_them(tmp_path: Path, monkeypatch
 
 
 def _run_at(width: int, a: Path, b: Path) -> str:
-    before = main.out_console._width
-    main.out_console.width = width
+    before = common.out_console._width
+    common.out_console.width = width
     try:
         res = CliRunner(env={"COLUMNS": str(width)}).invoke(app, ["diff", str(a), str(b)])
     finally:
-        main.out_console._width = before
+        common.out_console._width = before
     assert res.exit_code == 1, res.output
     return res.stdout
