@@ -149,8 +149,8 @@ def _fit_command(name: str) -> None:
 
     command.__signature__ = inspect.Signature(params)  # type: ignore[attr-defined]
     command.__doc__ = kind.title
-    epilog = (f"Columns: {kind.columns} {UNITS_HELP} Example: resal fit {name} examples/{kind.example} "
-              "(synthetic data, labelled so).")
+    epilog = (f"Columns: {kind.columns} {UNITS_HELP} Example: resal fit {name} resal-examples/{kind.example} "
+              "(synthetic data, labelled so; `resal examples` copies it there).")
     fit_app.command(name, cls=_FitCommand, help=f"{kind.title}.", epilog=epilog)(command)
 
 

@@ -6,9 +6,9 @@ SIGTERM or SIGHUP stops its workers, removes its staging folders and exits with 
 (130, 143, 129); the earlier results are left whole.
 
 The entry point. Each command is a module of this package (``cli/list_cmd.py``, ``cli/reproduce.py``,
-``cli/simulate.py``, ``cli/fit.py``, ``cli/bench.py``, ``cli/stress.py``, ``cli/diff.py``) that registers it on
-``app`` (``cli/app.py``) as it is imported here; what several share is in ``cli/common.py``, and how a process ends
-and what its terminal can print in ``cli/terminal.py``.
+``cli/simulate.py``, ``cli/fit.py``, ``cli/bench.py``, ``cli/stress.py``, ``cli/diff.py``, ``cli/examples.py``)
+that registers it on ``app`` (``cli/app.py``) as it is imported here; what several share is in ``cli/common.py``,
+and how a process ends and what its terminal can print in ``cli/terminal.py``.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import sys
 
 # each module registers its command on app as it is imported: in this order, the order of `resal --help`
 # isort: off
-from cli import list_cmd, reproduce, simulate, fit, bench, stress, diff  # noqa: F401
+from cli import list_cmd, reproduce, simulate, fit, bench, stress, diff, examples  # noqa: F401
 # isort: on
 from cli.app import app
 from cli.common import WIDE_TABLE, out_console
