@@ -46,9 +46,11 @@ def _experiment_folders(folder: Path) -> dict[str, Path]:
         raise InputError(str(folder), f"cannot read ({exc.strerror})") from None
 
 
-def _compare_files(ref: Path, new: Path, rtol: float | None) -> SummaryDiff:
+def _compare_files(ref: Path, new: Path, rtol: float | None, names: tuple[Path, Path] | None = None) -> SummaryDiff:
     """Two summary.json files read (an ``InputError`` for either that is bad input) and compared; neither is kept,
-    so comparing two results folders holds one pair of summaries in memory at a time."""
+    so comparing two results folders holds one pair of summaries in memory at a time. With ``names`` (the two
+    arguments as given), summaries of two different experiments are bad input: their quantities are not the same
+    ones, and listing them all would bury the one thing that matters."""
     import gc
 
     from reproductions import golden
@@ -59,6 +61,10 @@ def _compare_files(ref: Path, new: Path, rtol: float | None) -> SummaryDiff:
     gc.disable()
     try:
         s, t = _read_summary(ref), _read_summary(new)
+        if names is not None and s["experiment"] != t["experiment"]:
+            raise InputError("different experiments", f"{names[0]} is experiment {s['experiment']}, {names[1]} is "
+                                                      f"experiment {t['experiment']}: compare summaries of one "
+                                                      f"experiment")
         return compare(s["experiment"], golden.flatten(s), t["experiment"], golden.flatten(t), rtol)
     finally:
         if was_enabled:
@@ -147,7 +153,7 @@ def diff(
             ea, eb = _experiment_folders(fa), _experiment_folders(fb)
             pairs = {i: (ea[i] / "summary.json", eb[i] / "summary.json") for i in ea if i in eb}
             only_a, only_b = [i for i in ea if i not in eb], [i for i in eb if i not in ea]
-        compared = {i: _compare_files(x, y, rtol) for i, (x, y) in pairs.items()}
+        compared = {i: _compare_files(x, y, rtol, None if i else (a, b)) for i, (x, y) in pairs.items()}
     except InputError as err:
         _fail(err)
     differ = bool(only_a or only_b)
@@ -157,10 +163,10 @@ def diff(
         differ |= d.differ
         head = f"{i}: " if i else ""
         where = "" if i else f" in {a} and {b}"
-        if not d.same_experiment:
+        if not d.same_experiment:  # (two results folders: one folder name, two experiments) one line, no list
             out_console.print(Text(f"{head}different experiments: {d.ref_experiment} in {pairs[i][0]}, "
                                    f"{d.new_experiment} in {pairs[i][1]}", style="bold red"), highlight=False)
-        if d.differences:
+        elif d.differences:
             out_console.print(Text(f"{head}{len(d.differences)} of {d.compared} quantities differ{where}",
                                    style="bold red"), highlight=False)
             _print_differences(d.differences, *pairs[i])

@@ -252,13 +252,15 @@ def _print_fit(s: dict[str, Any], folder: Path) -> None:
     def ci(c: list | None) -> str:
         return "—" if not c or c[0] is None else f"[{c[0]:.4g}, {c[1]:.4g}]"
 
+    from reproductions.fit.report import fit_lines, has_bootstrap
+
+    boot = has_bootstrap(s)  # no column of dashes where no bootstrap ran
     rows = [([f["parameter"], "—" if f["value"] is None else f"{f['value']:.6g}",
-              "—" if f["stderr"] is None else f"{f['stderr']:.3g}", ci(f["ci95"]), ci(f.get("ci95_bootstrap")),
-              f["note"]], "") for f in s["fits"]]
+              "—" if f["stderr"] is None else f"{f['stderr']:.3g}", ci(f["ci95"]),
+              *([ci(f.get("ci95_bootstrap"))] if boot else []), f["note"]], "") for f in s["fits"]]
     _print_rows(f"resal fit {s['kind']}: {s['file']} ({s['n']} rows)",
-                ("parameter", "value", "std. error", "95 % interval", "bootstrap 95 %", "note"), rows, ("parameter",),
-                note_width=50)
-    from reproductions.fit.report import fit_lines
+                ("parameter", "value", "std. error", "95 % interval", *(("bootstrap 95 %",) if boot else ()), "note"),
+                rows, ("parameter",), note_width=50)
 
     lines = fit_lines(s, warnings=False)  # on stderr, after the table
     lines.append(f"wrote {folder}/")

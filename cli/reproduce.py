@@ -115,6 +115,94 @@ def _render_summary(summaries: list[dict[str, Any]], folders: list[Path]) -> Non
     out_console.print(Text(f"folders: {where}", overflow="ignore"), highlight=False)
 
 
+def _seconds_text(seconds: float) -> str:
+    return f"{seconds:.2f} s" if seconds < 10 else f"{seconds:.1f} s"
+
+
+class _RunProgress:
+    """A run's progress, on stderr only (stdout is the report). On a terminal, a bar per stage: the experiments run
+    (N of them), the figures drawn (their total once every experiment has run and said what it draws) and the
+    reader's edition being written; the bars are gone once the run ends. Elsewhere (a pipe, a CI log, ``make all |
+    tee log``), a run of several experiments says each one as it finishes, with its running time and its
+    verdicts, then when the figures and the edition are done, each line flushed at once: a log shows where the
+    time goes, as it goes. (A run of one experiment prints its own table at once: no such line.)"""
+
+    def __init__(self, experiments: int) -> None:
+        import time
+
+        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+        self.clock = time.monotonic
+        self.start = self.clock()
+        self.experiments = experiments
+        self.lines = not err_console.is_terminal and experiments > 1
+        # the count: "k/N", "k/?" while the total is not known yet, nothing for the edition (one step)
+        self.bars = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[count]}"),
+                             TimeElapsedColumn(), console=err_console, transient=True,
+                             disable=not err_console.is_terminal)
+        self.running = (self.bars.add_task("running experiments", total=experiments, count=f"0/{experiments}")
+                        if experiments else None)
+        self.drawing: Any = None
+        self.writing: Any = None
+        self.ran = self.to_draw = 0
+        self.figures_said = False
+        self.edition_start = 0.0
+
+    def __enter__(self) -> _RunProgress:
+        self.bars.__enter__()
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.bars.__exit__(*exc)
+
+    def _say(self, line: str) -> None:
+        err_console.print(Text(line), soft_wrap=True, highlight=False)
+        err_console.file.flush()
+
+    def experiment_done(self, rep: Any, seconds: float) -> None:
+        """An experiment has run (``rep``, its ``Reproduction``), in ``seconds``."""
+        self.ran += 1
+        if self.running is not None:
+            self.bars.update(self.running, completed=self.ran, count=f"{self.ran}/{self.experiments}")
+        if self.lines:
+            from reproductions.report import verdict_counts
+
+            counts, _ = verdict_counts({"verdict": r.verdict, "domain": r.domain} for r in rep.rows)
+            measured: dict[str, int] = {}
+            for m in rep.measurements:
+                measured[m.verdict] = measured.get(m.verdict, 0) + 1
+            said = [", ".join(f"{n} {v}" for v, n in counts.items() if n)]
+            said.append(f"measured: {', '.join(f'{n} {v}' for v, n in measured.items())}" if measured else "")
+            said_text = "; ".join(x for x in said if x) or "no claims"
+            self._say(f"{rep.experiment.id}: done in {_seconds_text(seconds)} ({said_text}); "
+                      f"{self.ran} of {self.experiments} run")
+
+    def __call__(self, p: Any) -> None:
+        """A ``api.RunProgress`` of ``run_and_draw``: an experiment run, or a figure drawn."""
+        if p.finished is not None:
+            self.experiment_done(p.finished, p.seconds)
+            self.to_draw += len(p.finished.figures)
+        total = p.figures  # None until every experiment has run
+        if self.drawing is None and (self.to_draw or total):
+            self.drawing = self.bars.add_task("drawing figures", total=total, count="")
+        if self.drawing is not None:
+            self.bars.update(self.drawing, completed=p.drawn, total=total,
+                             count=f"{p.drawn}/{'?' if total is None else total}")
+        if self.lines and total and p.drawn == total and not self.figures_said:
+            self.figures_said = True
+            self._say(f"figures: {total} drawn; experiments run and figures drawn in "
+                      f"{_seconds_text(self.clock() - self.start)}")
+
+    def edition(self, what: str) -> None:
+        """The reader's edition is being written (``what`` says so)."""
+        self.writing = self.bars.add_task(what, total=None, count="")
+        self.edition_start = self.clock()
+
+    def edition_done(self) -> None:
+        if self.writing is not None and self.lines:
+            self._say(f"reader's edition: written in {_seconds_text(self.clock() - self.edition_start)}")
+
+
 def _names(experiments: list[str] | None, all_: bool) -> list[str]:
     """The experiments named, then with --all every other id; none is refused."""
     from reproductions import locate
@@ -183,8 +271,9 @@ def _print_summaries(experiments: list[str] | None, all_: bool, jobs: int | None
         with api.interruptible():
             exps = _load_experiments(_names(experiments, all_), Path("results"))
             jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, len(exps)))
-            with err_console.status("running"):
-                reps = api.parallel_map(api.run, exps, jobs)
+            with _RunProgress(len(exps)) as progress:
+                reps = api.parallel_map(api.run, exps, jobs,
+                                        finished=lambda _i, rep, seconds: progress.experiment_done(rep, seconds))
             summaries = [report.summary(r, report.provenance(r)) for r in reps]
     except InputError as err:
         _fail(err)
@@ -319,7 +408,7 @@ def reproduce(
             report.ensure_writable(out)
             report.clean_stale(out)  # what a killed run (SIGKILL) of ours left behind
             jobs = max(1, jobs if jobs is not None else min(os.cpu_count() or 1, max(1, len(exps))))
-            with err_console.status("") as status:
+            with _RunProgress(len(exps)) as progress:
                 # run all first: a bad data file stops everything before anything is written; figures are drawn
                 # one by one across the processes as their experiment finishes, into a scratch folder
                 scratch = None
@@ -329,7 +418,7 @@ def reproduce(
                         from reproductions import api
 
                         scratch = report.make_staging(out, "figures")
-                        reps = api.run_and_draw(exps, jobs, scratch, status.update)
+                        reps = api.run_and_draw(exps, jobs, scratch, progress)
                     def waiting(pids: list[int]) -> None:
                         who = f"pid {', '.join(map(str, pids))}" if pids else "another resal run"
                         err_console.print(Text(f"waiting for {who}, which is writing into {out} (up to {wait:g} s; "
@@ -349,7 +438,9 @@ def reproduce(
                         summaries = [reused[n] if n in reused else
                                      json.loads((written[e.id] / "summary.json").read_text(encoding="utf-8"))
                                      for n, e in _in_order(names, reused, exps)]
-                        index = _write_index(out, force, status.update)
+                        index = _write_index(out, force, progress.edition)
+                        if index:
+                            progress.edition_done()
                 finally:
                     if scratch is not None:
                         shutil.rmtree(scratch, ignore_errors=True)

@@ -56,8 +56,8 @@ from .results import Reproduction
 from .series import MAX_CSV_BYTES
 
 __all__ = ["MAX_JOBS", "MAX_ODE_SCENES", "MAX_SCENES", "Fit", "FitEstimate", "FitWarning", "PathCode", "Regime",
-           "Simulation", "checkpoint", "config_dir", "experiment_ids", "fit", "interruptible", "list_experiments",
-           "load", "parallel_map", "reproduce", "run", "run_and_draw", "simulate"]
+           "RunProgress", "Simulation", "checkpoint", "config_dir", "experiment_ids", "fit", "interruptible",
+           "list_experiments", "load", "parallel_map", "reproduce", "run", "run_and_draw", "simulate"]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -240,13 +240,34 @@ def _draw(job: tuple[Any, Path]) -> Path:
     return draw_figure(job)
 
 
+@dataclass(frozen=True)
+class RunProgress:
+    """Where ``run_and_draw`` stands, given to its ``progress`` callback as each experiment finishes running (then
+    ``finished`` is that experiment and ``seconds`` its running time, in its process) and as each figure is drawn.
+    ``figures`` is the number of figures to draw in all, None until every experiment has run (an experiment says
+    what it draws once it has run); its ``str`` is a line that says all this."""
+
+    experiments: int
+    ran: int
+    figures: int | None
+    drawn: int
+    finished: Reproduction | None = None
+    seconds: float | None = None
+
+    def __str__(self) -> str:
+        return (f"experiments run: {self.ran}/{self.experiments}; figures drawn: {self.drawn}/"
+                f"{'?' if self.figures is None else self.figures}")
+
+
 @_quiet
 def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path | str,
-                 progress: Callable[[str], None] | None = None) -> list[Reproduction]:
+                 progress: Callable[[RunProgress], None] | None = None) -> list[Reproduction]:
     """Run the experiments and render their figures into ``scratch/<id>/`` on up to ``jobs`` processes (1 to
     ``MAX_JOBS``), the figures of an experiment starting as soon as it has run (so one long experiment does not
-    idle a core). Results in the input order. Exceptions propagate: an ``InputError`` from a data file, what
-    ``progress`` raises, and ``OSError`` when ``scratch`` cannot be written (a full disk: the caller names it)."""
+    idle a core). Results in the input order. ``progress`` gets a ``RunProgress`` as each experiment finishes
+    (in the order they finish) and as each figure is drawn. Exceptions propagate: an ``InputError`` from a data
+    file, what ``progress`` raises, and ``OSError`` when ``scratch`` cannot be written (a full disk: the caller
+    names it)."""
     from .report import prepare_drawing
 
     exps = [_experiment(f"exps[{i}]", e) for i, e in enumerate(_sequence("exps", exps, "experiments"))]
@@ -259,57 +280,69 @@ def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path | str,
         raise InputError(f"scratch={_shown(str(scratch))}", f"cannot be used ({err.strerror or err})") from None
     progress = _callback("progress", progress)
     prepare_drawing()
+    n = len(exps)
     if jobs <= 1:
         reps = []
         for i, e in enumerate(exps, 1):
             checkpoint()
-            reps.append(run(e))
+            r, seconds = processes.timed(run, e)
+            reps.append(r)
             if progress is not None:
-                progress(f"running: {i}/{len(exps)} done")
+                progress(RunProgress(n, i, sum(len(x.figures) for x in reps) if i == n else None, 0, r, seconds))
+        n_fig = sum(len(r.figures) for r in reps)
+        drawn = 0
         for r in reps:
             for spec in r.figures:
                 checkpoint()
                 _draw((spec, scratch / r.experiment.id))
+                drawn += 1
+                if progress is not None:
+                    progress(RunProgress(n, n, n_fig, drawn))
         return reps
     from concurrent.futures import FIRST_COMPLETED, wait
 
-    reps: list[Reproduction | None] = [None] * len(exps)
+    reps: list[Reproduction | None] = [None] * n
     with _pool_dies_as_computation_error(jobs), process_pool(jobs) as pool:
         # the longest first (each kind's declared COST): the last to start should be short, not roze-ricochets
-        order = sorted(range(len(exps)), key=lambda i: -float(getattr(KINDS[exps[i].kind], "COST", 1.0)))
-        running = {pool.submit(run, exps[i]): i for i in order}
+        order = sorted(range(n), key=lambda i: -float(getattr(KINDS[exps[i].kind], "COST", 1.0)))
+        running = {pool.submit(processes.timed, run, exps[i]): i for i in order}
         drawing = set()
         n_fig = done_fig = 0
         while running or drawing:
             checkpoint()
             finished, _ = wait([*running, *drawing], return_when=FIRST_COMPLETED, timeout=0.5)
-            for fut in finished:
+            for fut in finished:  # each said as it happens: an experiment by name, a figure by the count
                 if fut in running:
                     i = running.pop(fut)
-                    reps[i] = r = fut.result()
+                    r, seconds = fut.result()
+                    reps[i] = r
                     n_fig += len(r.figures)
                     drawing |= {pool.submit(_draw, (spec, scratch / r.experiment.id)) for spec in r.figures}
+                    event = RunProgress(n, n - len(running), None if running else n_fig, done_fig, r, seconds)
                 else:
                     drawing.discard(fut)
                     fut.result()
                     done_fig += 1
-            if progress is not None:
-                progress(f"experiments run: {len(exps) - len(running)}/{len(exps)}; figures drawn: {done_fig}/"
-                         f"{n_fig}")
+                    event = RunProgress(n, n - len(running), None if running else n_fig, done_fig)
+                if progress is not None:
+                    progress(event)
     return reps  # type: ignore[return-value]
 
 
 def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
-                 progress: Callable[[int, int], None] | None = None) -> list[R]:
+                 progress: Callable[[int, int], None] | None = None,
+                 finished: Callable[[int, R, float], None] | None = None) -> list[R]:
     """``[fn(x) for x in items]`` on up to ``jobs`` processes (1 to ``MAX_JOBS``), results in the input order;
-    ``progress(done, total)`` is called as items finish. On more than one process, ``fn`` and the items must
-    pickle. What ``fn`` and ``progress`` raise propagates (an ``InputError`` from a data file); ``fn``'s warnings
-    and output are its own."""
+    ``progress(done, total)`` is called as items finish, and before it ``finished(index, result, seconds)``: which
+    item finished (its index in ``items``: out of order on several processes), its result and the seconds its call
+    took. On more than one process, ``fn`` and the items must pickle. What ``fn``, ``progress`` and ``finished``
+    raise propagates (an ``InputError`` from a data file); ``fn``'s warnings and output are its own."""
     if not callable(fn):
         raise InputError(f"fn={_shown(fn)}", f"expected a function, got {_a(fn)}")
     items = _sequence("items", items, "the items to map")
     jobs = _jobs(jobs)
     progress = _callback("progress", progress)
+    finished = _callback("finished", finished)
     if jobs > 1 and len(items) > 1:  # sent to worker processes: refused here, not by a pickling error there
         for where, x in (("fn", fn), *((f"items[{i}]", x) for i, x in enumerate(items))):
             try:
@@ -318,7 +351,7 @@ def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
                 raise InputError(f"{where}={_shown(x)}", f"cannot be sent to a worker process (it does not pickle: "
                                                          f"{_shown(err, 120)}); jobs=1 runs in this process") from None
     with _pool_dies_as_computation_error(jobs):
-        return processes.parallel_map(fn, items, jobs, progress)
+        return processes.parallel_map(fn, items, jobs, progress, finished)
 
 
 # ---- the Python entry point: simulate, reproduce, fit ---------------------------------------------------------

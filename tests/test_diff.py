@@ -107,23 +107,23 @@ def test_a_modern_symbol_repeats_per_source_but_with_one_resal_value(tmp_path: P
     one_line_error(invoke("diff", same, bad), f"{bad}: ", "modern[1]", "'e'", "another resal value")
 
 
-# -- different experiments: a difference, exit 1 ------------------------------------------------------------------
-def test_different_experiments_with_the_same_numbers_differ(tmp_path: Path) -> None:
+# -- different experiments: two summaries, bad input (exit 2, one line); two results folders, a difference ---------
+def test_two_summaries_of_different_experiments_are_one_line_of_bad_input(tmp_path: Path) -> None:
     a = write(tmp_path / "a.json", summary(experiment="ball-ball"))
-    b = write(tmp_path / "b.json", summary(experiment="cue-stroke"))
-    res = invoke("diff", a, b)
-    assert res.exit_code == 1, res.output
-    assert f"different experiments: ball-ball in {a}, cue-stroke in {b}" in " ".join(res.stdout.split())
+    b = write(tmp_path / "b.json", summary(experiment="cue-stroke", shift=1.0))  # numbers differ too: not listed
+    one_line_error(invoke("diff", a, b), f"{a} is experiment ball-ball, {b} is experiment cue-stroke",
+                   "compare summaries of one experiment")
     assert invoke("diff", a, a).exit_code == 0
 
 
 def test_different_experiments_in_two_results_folders_differ(tmp_path: Path) -> None:
-    for side, eid in (("a", "ball-ball"), ("b", "cue-stroke")):
+    for side, eid, shift in (("a", "ball-ball", 0.0), ("b", "cue-stroke", 1.0)):
         (tmp_path / side / "x").mkdir(parents=True)
-        write(tmp_path / side / "x" / "summary.json", summary(experiment=eid))
+        write(tmp_path / side / "x" / "summary.json", summary(experiment=eid, shift=shift))
     res = invoke("diff", tmp_path / "a", tmp_path / "b")
     assert res.exit_code == 1, res.output
     assert "x: different experiments: ball-ball" in res.stdout
+    assert "quantities differ" not in res.stdout  # the one line, not the quantities of two experiments
 
 
 def test_the_exit_statuses_are_in_the_help() -> None:
