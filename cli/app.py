@@ -3,12 +3,12 @@ every command: an unknown option or command, a missing argument, a value click r
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Annotated, Any
 
 import typer
 
 from cli.common import _fail
-from reproductions.errors import InputError
+from reproductions.errors import InputError, did_you_mean
 
 
 def _command_path(ctx: Any) -> str:
@@ -42,16 +42,56 @@ def _usage_error(exc: Exception, given: list[str], ctx: Any = None) -> InputErro
                                  f"{', '.join(takes) if takes else 'no option but --help'})")
     if ctx is not None and hasattr(ctx.command, "commands") and "No such command" in str(exc):
         name = next((a for a in given if not a.startswith("-")), "")
-        return InputError(f"command '{name}'", f"not a command of `{path}` (expected one of "
-                                               f"{', '.join(ctx.command.commands)}; see {path} --help)")
+        return InputError(f"command '{name}'", f"not a command of `{path}`{did_you_mean(name, ctx.command.commands)}"
+                                               f" (expected one of {', '.join(ctx.command.commands)}; see {path} "
+                                               "--help)")
     where = getattr(exc, "option_name", None) or path  # an option given without its value: the option
     return InputError(where, f"{exc.format_message()} (see {path} --help)")  # type: ignore[attr-defined]
+
+
+def _summary(help_text: str) -> str:
+    """A command's line in its group's list of commands: the first paragraph of its help, whole (click would cut
+    it at its first period or at the width left, "§I eq." or "write tables...")."""
+    first = help_text.strip().split("\n\n", 1)[0]
+    return " ".join(w for w in first.split() if w != "\b")
+
+
+def _plain_arguments(cmd: Any) -> Any:
+    """The arguments of ``cmd`` named in capitals in its usage line, help and errors, as POSIX usage lines and
+    click write them (``resal diff [OPTIONS] A B``, not typer's ``{a} {b}``): an optional one in brackets, one
+    that repeats followed by ``...``."""
+    import types
+
+    def pieces(self: Any, ctx: Any) -> list[str]:
+        name = self.metavar if self.required else f"[{self.metavar}]"
+        return [name + ("..." if self.nargs != 1 else "")]
+
+    for p in getattr(cmd, "params", ()):
+        if p.param_type_name == "argument" and not getattr(p, "_plain", False):
+            p.metavar = p.metavar or p.name.upper()
+            p.get_usage_pieces = types.MethodType(pieces, p)
+            p._plain = True
+    return cmd
 
 
 class _OneLineGroup(typer.core.TyperGroup):
     """Every usage mistake gets one ``error:`` line and exit 2, as all bad input does, never click's usage screen:
     the group's own options, its command names, and (around each command it runs) the command's own arguments; so
-    every command of the app, the ones added later too, behaves the same."""
+    every command of the app, the ones added later too, behaves the same. Its commands' help lists each by the
+    first paragraph of its help, whole; their arguments read in capitals (``_plain_arguments``)."""
+
+    def get_command(self, ctx: Any, cmd_name: str) -> Any:
+        return _plain_arguments(super().get_command(ctx, cmd_name))
+
+    def format_commands(self, ctx: Any, formatter: Any) -> None:
+        rows = []
+        for name in self.list_commands(ctx):
+            cmd = self.get_command(ctx, name)
+            if cmd is not None and not cmd.hidden:
+                rows.append((name, cmd.short_help or _summary(cmd.help or "")))
+        if rows:
+            with formatter.section("Commands"):
+                formatter.write_dl(rows)
 
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
         given = list(args)  # click consumes the list
@@ -87,5 +127,39 @@ class _OneLineGroup(typer.core.TyperGroup):
 
 # plain help (no rich markup): typer then skips its rich formatting imports, and `resal --help` stays under 0.3 s
 app = typer.Typer(cls=_OneLineGroup, add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
-                  rich_markup_mode=None,
-                  help="Reproduce H. Résal (1883), 'Commentaire à la théorie mathématique du jeu de billard'.")
+                  rich_markup_mode=None)
+
+
+def _version(value: bool) -> None:
+    """``resal --version``: resal's version, its git commit when it runs from a checkout (as summary.json's
+    provenance records it), and the versions of Python, numpy and scipy; one line each, then exit 0."""
+    if not value:
+        return
+    from reproductions.report import code_provenance
+
+    c = code_provenance()
+    lines = [f"resal {c['version']}"]
+    if c["git_commit"]:
+        lines.append(f"commit {c['git_commit'][:12]}" + (" (with uncommitted changes)" if c["dirty"] else ""))
+    lines += [f"Python {c['python']}", *(f"{m} {c[m] or 'not installed'}" for m in ("numpy", "scipy"))]
+    typer.echo("\n".join(lines))
+    raise typer.Exit(0)
+
+
+@app.callback()
+def _resal(version: Annotated[bool, typer.Option(
+        "--version", is_eager=True, callback=_version,
+        help="print the versions of resal (and its git commit), Python, numpy and scipy, and exit")] = False) -> None:
+    """Reproduce H. Résal (1883), 'Commentaire à la théorie mathématique du jeu de billard'.
+
+    \b
+    Examples:
+      resal list
+      resal reproduce coriolis-pendulum
+      resal reproduce --all
+      resal simulate wall-impact --set eps=0.3
+      resal examples
+      resal fit rebound resal-examples/rebound.csv
+
+    Each command's --help gives its own examples: resal reproduce --help.
+    """

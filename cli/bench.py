@@ -26,7 +26,18 @@ def bench(
     out: Annotated[Path, typer.Option("--out", help="folder for bench.json, bench.md, figures",
                                       parser=_out_folder)] = Path("results/bench"),
 ) -> None:
-    """Work-precision benchmark of every model × path: time per scene against error, and auto's Pareto verdict."""
+    """Benchmark every model × path: time per scene against error.
+
+    \b
+    Examples:
+      resal bench wall-impact --quick
+      resal bench direct-impact cue-stroke --quick --out bench-two
+      resal bench --quick
+
+    The work-precision benchmark: scenes per second and the error where a path declares itself exact, for every
+    path of every model, and auto's Pareto verdict (wrong if another exact path is faster and as accurate).
+    Without --quick it takes minutes.
+    """
     from rich.progress import Progress
 
     from reproductions import bench as bench_mod

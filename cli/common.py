@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, NoReturn
@@ -16,7 +17,7 @@ from rich.table import Table
 from rich.text import Text
 
 from cli.terminal import _JSON_ASCII
-from reproductions.errors import ComputationError, InputError
+from reproductions.errors import ComputationError, InputError, did_you_mean
 
 
 def _environ() -> dict[str, str]:
@@ -32,8 +33,24 @@ def _environ() -> dict[str, str]:
     return env
 
 
-out_console = Console(_environ=_environ())
-err_console = Console(stderr=True, _environ=_environ())
+class _Console(Console):
+    """A Rich console that prints text as it is, without its automatic highlighting (numbers, words in quotes…:
+    only explicit styles are coloured); not writing to a terminal (a pipe, a file), its lines end without the
+    spaces that pad a table's cells to their width."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(highlight=False, **kwargs)
+
+    def _render_buffer(self, buffer: Any) -> str:
+        text = super()._render_buffer(buffer)
+        if not self.is_terminal and " \n" in text:
+            text = _PADDING.sub("", text)  # the spaces before each newline; a line still being printed keeps its own
+        return text
+
+
+_PADDING = re.compile(r" +(?=\n)")
+out_console = _Console(_environ=_environ())
+err_console = _Console(stderr=True, _environ=_environ())
 
 
 def _json(obj: Any) -> str:
@@ -132,7 +149,8 @@ def _known_models(models: list[str] | None) -> list[str]:
     names = list(models or [])
     unknown = [m for m in names if m not in registry.MODELS]
     if unknown:
-        _fail(InputError(f"model '{unknown[0]}'", f"unknown model (expected some of: {', '.join(registry.MODELS)})"))
+        _fail(InputError(f"model '{unknown[0]}'", f"unknown model (expected some of: {', '.join(registry.MODELS)})"
+                                                  f"{did_you_mean(unknown[0], registry.MODELS)}"))
     return names
 
 

@@ -132,11 +132,21 @@ def diff(
     b: Annotated[Path, typer.Argument(help="the one to check, of the same sort as A")],
     rtol: Annotated[float | None, typer.Option(help="one relative tolerance for every number")] = None,
 ) -> None:
-    """Compare the numbers of two experiments' summaries, provenance ignored; or of every experiment two results
-    folders both hold (and name those only one holds). Each difference shows both values, each with its path.
+    """Compare the numbers of two summaries, or of two results folders.
+
+    \b
+    Examples:
+      resal reproduce coriolis-pendulum --out before
+      resal reproduce coriolis-pendulum --out after
+      resal diff before/coriolis-pendulum after/coriolis-pendulum
+      resal diff before after --rtol 1e-9
+
+    Compares the numbers of two experiments' summaries, provenance ignored; or of every experiment two results
+    folders both hold (and names those only one holds). Each difference shows both values, each with its path.
     A summary is refused (as bad input) beyond 16 MiB or 1,048,576 quantities, or with a key twice in one JSON
     object or an id twice in one list. Exit status: 0 the same numbers, 1 some differ (or the two are of different
-    experiments, or an experiment is in one folder only), 2 bad input."""
+    experiments, or an experiment is in one folder only), 2 bad input.
+    """
     try:
         if rtol is not None and not (math.isfinite(rtol) and 0 <= rtol < 1):
             raise InputError(f"--rtol {rtol:g}", "expected a relative tolerance in [0, 1)")

@@ -13,7 +13,7 @@ from rich.text import Text
 
 from cli.app import _OneLineGroup, _usage_error, app
 from cli.common import _count, _fail, _json, _out_folder, _print_rows, err_console, out_console
-from reproductions.errors import ComputationError, InputError
+from reproductions.errors import ComputationError, InputError, did_you_mean
 
 
 class _FitGroup(_OneLineGroup):
@@ -23,7 +23,8 @@ class _FitGroup(_OneLineGroup):
         from reproductions.fit.kinds import KINDS
 
         if args and not args[0].startswith("-") and args[0] not in KINDS:
-            _fail(InputError(f"kind '{args[0]}'", f"expected one of {', '.join(KINDS)}"))
+            _fail(InputError(f"kind '{args[0]}'", f"expected one of {', '.join(KINDS)}"
+                                                  f"{did_you_mean(args[0], KINDS)}"))
         return super().resolve_command(ctx, args)
 
 
@@ -47,8 +48,14 @@ class _FitCommand(typer.core.TyperCommand):
 
 
 fit_app = typer.Typer(cls=_FitGroup, no_args_is_help=True, rich_markup_mode=None,
-                      help="Fit the paper's coefficients to your own measurements (a CSV file): `resal fit <kind> "
-                           "data.csv`; `resal fit <kind> --help` gives that kind's columns and an example.")
+                      help="Fit the paper's coefficients to your own measurements (CSV).\n\n"
+                           "\b\nExamples:\n"
+                           "  resal examples\n"
+                           "  resal fit rebound resal-examples/rebound.csv\n"
+                           "  resal fit drop resal-examples/drop.csv --bootstrap 0 --out drop-fit\n"
+                           "  resal fit cushion --help\n\n"
+                           "`resal examples` copies an example file (synthetic data, labelled so) for each kind into "
+                           "resal-examples/; `resal fit KIND --help` gives the columns that kind reads.")
 app.add_typer(fit_app, name="fit")
 
 
@@ -149,9 +156,39 @@ def _fit_command(name: str) -> None:
 
     command.__signature__ = inspect.Signature(params)  # type: ignore[attr-defined]
     command.__doc__ = kind.title
-    epilog = (f"Columns: {kind.columns} {UNITS_HELP} Example: resal fit {name} resal-examples/{kind.example} "
-              "(synthetic data, labelled so; `resal examples` copies it there).")
-    fit_app.command(name, cls=_FitCommand, help=f"{kind.title}.", epilog=epilog)(command)
+    example = _example(name, kind.example)
+    help_text = (f"{kind.title}.\n\n\b\nExamples:\n  resal examples\n  {example}\n\n"
+                 f"`resal examples` copies the example file (synthetic data, labelled so) into resal-examples/.\n\n"
+                 f"Columns: {kind.columns} {UNITS_HELP}")
+    fit_app.command(name, cls=_FitCommand, help=help_text, short_help=_SUMMARY.get(name))(command)
+
+
+# each kind's line in `resal fit --help`: whole, in 63 columns (the kinds' titles run to 89)
+_SUMMARY = {"rebound": "e and ε from rebounds on an immovable mass.",
+            "cushion": "e and ε from perpendicular cushion rebounds.",
+            "drop": "e and ε from a ball dropped on a slab.",
+            "pendulum": "ε, ε′ and e from two-pendulum impacts.",
+            "ricochet": "ν (and f where identifiable) from ricochet imprints.",
+            "bounces": "ν (and g) from the instants of a ball bouncing in place.",
+            "ball-ball": "Ball–ball friction f and e from oblique shots.",
+            "markers": "Ball–ball friction f and e from angle markers of collisions."}
+
+
+def _example(name: str, file: str) -> str:
+    """`resal fit <name>` on its example file as `resal examples` copies it (into resal-examples/), with the
+    options the file's first line asks for ("(use --R 0.02855)")."""
+    import re
+    import shlex
+
+    from reproductions import locate
+
+    try:
+        with (locate.examples_dir() / file).open(encoding="utf-8") as f:
+            first = f.readline()
+    except OSError:
+        first = ""
+    options = [o for m in re.findall(r"\(use (--[^)]*)\)", first) for o in m.split()]
+    return shlex.join(["resal", "fit", name, f"resal-examples/{file}", *options])
 
 
 def _run_fit(name: str, kw: dict[str, Any]) -> None:

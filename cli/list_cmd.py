@@ -13,7 +13,13 @@ from reproductions.errors import InputError
 
 @app.command("list")
 def list_cmd() -> None:
-    """List every experiment: id, section, title, kind."""
+    """List every experiment: id, section, title, kind.
+
+    \b
+    Examples:
+      resal list
+      resal reproduce coriolis-pendulum
+    """
     from reproductions import api
 
     try:

@@ -43,7 +43,7 @@ def main() -> None:
 
         with processes.interruptible():
             try:
-                app()
+                app(prog_name="resal")  # `python -m cli.main --help` shows the command as a user types it
             finally:
                 sys.stdout.flush()
     except SystemExit:

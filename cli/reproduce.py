@@ -373,10 +373,21 @@ def reproduce(
     wait: Annotated[float, typer.Option("--wait", help="seconds to wait for another run writing into OUT",
                                         parser=_seconds("--wait"))] = 60.0,
 ) -> None:
-    """Run experiments, compare every printed value, write tables and figures into OUT/<experiment>/ and the
-    paper's index, table, reader's edition (index.html) and report.pdf into OUT. One experiment prints its full
-    table; several, a summary. With --json and no --out, only prints: nothing is written. An experiment whose
-    folder was computed from the same config, data files and code is reused, not recomputed (--force)."""
+    """Run experiments and check every value the paper prints.
+
+    \b
+    Examples:
+      resal reproduce coriolis-pendulum
+      resal reproduce marble-drop cue-stroke --out my-results
+      resal reproduce coriolis-pendulum --json
+      resal reproduce --all
+
+    Each experiment runs, every printed value is compared, and tables and figures are written into
+    OUT/<experiment>/, with the paper's index, table, reader's edition (index.html) and report.pdf into OUT. One
+    experiment prints its full table; several, a summary. With --json and no --out, only prints: nothing is
+    written. An experiment whose folder was computed from the same config, data files and code is reused, not
+    recomputed (--force).
+    """
     from reproductions import processes, report
 
     if as_json and out is None:

@@ -26,8 +26,18 @@ def simulate(
     method: Annotated[str, typer.Option(help="solution path: auto (the cheapest exact one for the scene) or a "
                                              "path of the model (see --list)")] = "auto",
 ) -> None:
-    """Run one scene of a mechanics model and print its inputs and outputs, each with its unit (SI; angles in
-    degrees, as the inputs are)."""
+    """Run one scene of a mechanics model: its inputs and outputs.
+
+    \b
+    Examples:
+      resal simulate --list
+      resal simulate wall-impact --set eps=0.3
+      resal simulate direct-impact --set eps=0.5 --set epsp=0.5
+      resal simulate cloth-slide --set vx=2 --set wx=60 --set f=0.25
+      resal simulate wall-impact --set eps=0.3 --json
+
+    Each input and output is printed with its unit (SI; angles in degrees, as the inputs are).
+    """
     from reproductions.models import list_models
     from reproductions.models import simulate as run_scene
 

@@ -26,7 +26,16 @@ def stress(
     out: Annotated[Path, typer.Option("--out", help="folder for stress.json and stress.md",
                                       parser=_out_folder)] = Path("results/stress"),
 ) -> None:
-    """Stress every model × path over random scenes beyond the physical range; exit 1 on any failure."""
+    """Stress every model × path over random, extreme scenes.
+
+    \b
+    Examples:
+      resal stress wall-impact --scenes 10000 --ode-scenes 10 --referee-scenes 10
+      resal stress --scenes 1000 --ode-scenes 2 --referee-scenes 2
+
+    Every path of every model (or of the models named) runs on random scenes, the physical range and beyond;
+    exit status 1 on any failure. The defaults take minutes.
+    """
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
     from reproductions import stress as stress_mod

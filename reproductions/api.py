@@ -41,7 +41,7 @@ import numpy as np
 
 from . import locate, processes
 from .config import Experiment, load_experiment
-from .errors import ComputationError, InputError
+from .errors import ComputationError, InputError, did_you_mean
 from .experiments import KINDS
 from .fit import options as fit_options
 from .fit.kinds import KINDS as FIT_KINDS
@@ -203,7 +203,7 @@ def load(name_or_path: str | os.PathLike[str]) -> Experiment:
     if name not in ids:
         raise InputError(f"experiment '{_short(name)}'",
                          f"unknown experiment id (expected one of: {', '.join(ids) or 'none found'}, "
-                         "or the path of a YAML file)")
+                         f"or the path of a YAML file){did_you_mean(name, ids)}")
     return load_experiment(config_dir() / f"{name}.yaml", KINDS)
 
 
@@ -486,13 +486,15 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
     model = _text("model", model, f"a model's name (one of: {', '.join(registry.MODELS)})")
     if model not in registry.MODELS:
         raise InputError(f"model '{_short(model)}'", f"unknown model (expected one of: "
-                                                     f"{', '.join(registry.MODELS)})")
+                                                     f"{', '.join(registry.MODELS)})"
+                                                     f"{did_you_mean(model, registry.MODELS)}")
     m = registry.MODELS[model]
     names = [p.name for p in m.paths]
     method = _text("method", method, f"auto or a path of {model} ({', '.join(names)})")
     if method != "auto" and method not in names:
         raise InputError(f"method '{_short(method)}'", f"{model} has no path '{_short(method)}' (expected one of: "
-                                                       f"auto, {', '.join(names)})")
+                                                       f"auto, {', '.join(names)})"
+                                                       f"{did_you_mean(method, ['auto', *names])}")
     params = {p.name: p for p in m.params}
     values: dict[str, np.ndarray] = {}
     given_values: dict[str, np.ndarray] = {}  # as given, checked
@@ -501,7 +503,7 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
         p = params.get(name)
         if p is None:
             raise InputError(f"{_short(name)}=…", f"unknown parameter '{_short(name)}' for {model} (expected one "
-                                                  f"of: {', '.join(params)})")
+                                                  f"of: {', '.join(params)}){did_you_mean(name, params)}")
         q = _scene_param(p)
         vector = name in m.vectors
         a = _numbers(name, raw, "a 3-vector (x, y, z)" if vector else "a number or an array of numbers"
@@ -746,7 +748,8 @@ def fit(kind: str, data: str | os.PathLike[str] | Mapping[str, Any], *, seed: in
 def _fit(kind: Any, data: Any, seed: Any, options: dict[str, Any]) -> Fit:
     kind = _text("kind", kind, f"one of {', '.join(FIT_KINDS)}")
     if kind not in FIT_KINDS:
-        raise InputError(f"kind '{_short(kind)}'", f"expected one of {', '.join(FIT_KINDS)}")
+        raise InputError(f"kind '{_short(kind)}'", f"expected one of {', '.join(FIT_KINDS)}"
+                                                   f"{did_you_mean(kind, FIT_KINDS)}")
     takes = FIT_KINDS[kind].options
     for name in options:
         if name not in takes:

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from .config import comma_problem, comma_readings, parse_number, printable, shorten, underflows
-from .errors import ComputationError, InputError
+from .errors import ComputationError, InputError, did_you_mean
 from .mechanics import paths, registry
 
 __all__ = ["NOT_COMPUTED", "OUTPUTS", "degrees", "describe", "list_models", "simulate", "solve_scene"]
@@ -128,7 +128,8 @@ def _parse(m: paths.Model, assignment: str) -> tuple[str, Any]:
     param = next((p for p in m.params if p.name == name), None)
     if param is None:
         raise InputError(where, f"unknown parameter '{name}' for {m.name} "
-                                f"(expected one of: {', '.join(p.name for p in m.params)})")
+                                f"(expected one of: {', '.join(p.name for p in m.params)})"
+                                f"{did_you_mean(name, [p.name for p in m.params])}")
     if name not in m.vectors and "," in text:
         raise InputError(where, f"'{name}' is one number, got '{shorten(text)}': {comma_problem(text)}")
     parts = text.split(",") if name in m.vectors else [text]
@@ -212,11 +213,13 @@ def _first_line(err: BaseException) -> str:
 def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[str, Any]:
     """Run one scene; ``assignments`` are ``name=value`` strings. Raises ``InputError`` on bad input."""
     if model not in registry.MODELS:
-        raise InputError(f"model '{model}'", f"unknown model (expected one of: {', '.join(registry.MODELS)})")
+        raise InputError(f"model '{model}'", f"unknown model (expected one of: {', '.join(registry.MODELS)})"
+                                             f"{did_you_mean(model, registry.MODELS)}")
     m = registry.MODELS[model]
     if method != "auto" and method not in [p.name for p in m.paths]:
         raise InputError(f"--method {method}", f"{model} has no path '{method}' (expected one of: auto, "
-                                               f"{', '.join(p.name for p in m.paths)})")
+                                               f"{', '.join(p.name for p in m.paths)})"
+                                               f"{did_you_mean(method, ['auto', *(p.name for p in m.paths)])}")
     values: dict[str, Any] = {}
     for a in assignments:
         name, v = _parse(m, a)
