@@ -6,11 +6,10 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 import typer
-from rich.padding import Padding
 from rich.text import Text
 
 from cli.app import app
-from cli.common import _fail, _json, _plain_table, _print_items, out_console
+from cli.common import _count, _fail, _json, _plain_table, _print_items, err_console, out_console
 from reproductions.errors import InputError
 
 
@@ -25,6 +24,9 @@ def simulate(
                                                        "defaults), paths and outputs")] = False,
     method: Annotated[str, typer.Option(help="solution path: auto (the cheapest exact one for the scene) or a "
                                              "path of the model (see --list)")] = "auto",
+    digits: Annotated[int, typer.Option("--digits", parser=_count("--digits", 1, 17, "a number of significant digits"),
+                                        help="significant digits of the numbers printed, 1 to 17 (--json gives "
+                                             "every digit)")] = 6,
 ) -> None:
     """Run one scene of a mechanics model: its inputs and outputs.
 
@@ -54,6 +56,8 @@ def simulate(
         result = run_scene(model, list(set_ or []), method)
     except InputError as err:
         _fail(err)
+    for w in result["warnings"]:  # on stderr, one line each, the scene computed all the same (exit 0)
+        err_console.print(Text("warning: ", style="bold yellow") + Text(w["message"]), soft_wrap=True)
     if as_json:
         typer.echo(_json(result))
         return
@@ -64,7 +68,7 @@ def simulate(
                                                                  f"{result['regime_name']}"))
     out_console.print(Text(result["label"]))
     rows = [("in" if side == "inputs" and j == 0 else "out" if j == 0 else "", k,
-             _value_text(v, regimes=result["units"][side][k] == "code"), _unit_text(result["units"][side][k]),
+             _value_text(v, digits, regimes=result["units"][side][k] == "code"), _unit_text(result["units"][side][k]),
              meaning[k], side == "inputs" and j == len(result[side]) - 1)
             for side in ("inputs", "outputs") for j, (k, v) in enumerate(result[side].items())]
     # Names, units and numbers are never cut: on a console too narrow for the table (COLUMNS=20), a line per value
@@ -90,14 +94,14 @@ def _unit_text(unit: str) -> str:
     return "" if unit in ("code", "flag") else unit
 
 
-def _value_text(v: Any, digits: int = 10, regimes: bool = False) -> str:
+def _value_text(v: Any, digits: int = 6, regimes: bool = False) -> str:
     """A simulate value as printed: lists flattened (components, or one value per impact), regime codes named."""
     from reproductions.mechanics.paths import Regime
 
     if v is None:
         return "—"
     if isinstance(v, list):
-        return ", ".join(_value_text(x, 6, regimes) for x in _flat(v))
+        return ", ".join(_value_text(x, digits, regimes) for x in _flat(v))
     if isinstance(v, bool):
         return "true" if v else "false"
     if regimes:
@@ -106,10 +110,19 @@ def _value_text(v: Any, digits: int = 10, regimes: bool = False) -> str:
 
 
 def _range_cell(p: dict[str, Any]) -> str:
-    """A parameter's admissible range, short: "(0, 1]", "> 0", "any"; "whole" for a count."""
-    text = p["range"].removeprefix("a number").strip()
-    text = text.removeprefix("in ").strip() or "any"
-    return f"whole, {text}" if p["integer"] else text
+    """A parameter's admissible range in the unit it is typed in (degrees for an angle): "0 < alpha0 < 90",
+    "M > 0", "any"; ", whole" for a count."""
+    n, lo, hi = p["name"], p["lo"], p["hi"]
+    below, above = "<" if p["lo_open"] else "≤", "<" if p["hi_open"] else "≤"
+    if lo is not None and hi is not None:
+        text = f"{lo:g} {below} {n} {above} {hi:g}"
+    elif lo is not None:
+        text = f"{n} {'>' if p['lo_open'] else '≥'} {lo:g}"
+    elif hi is not None:
+        text = f"{n} {above} {hi:g}"
+    else:
+        text = "any"
+    return f"{text}, whole" if p["integer"] else text
 
 
 def _default_cell(p: dict[str, Any]) -> str:
@@ -119,23 +132,45 @@ def _default_cell(p: dict[str, Any]) -> str:
     return ",".join([f"{d:g}"] * 3) if p["vector"] else f"{d:g}"
 
 
+def _print_wrapped(text: str, indent: str = "", hanging: str | None = None, bold: int = 0) -> None:
+    """``text`` wrapped at words to the console (a word longer than a line left whole), its first ``bold``
+    characters bold; no trailing space."""
+    import textwrap
+
+    lines = textwrap.wrap(text, max(out_console.width, 20), initial_indent=indent,
+                          subsequent_indent=indent if hanging is None else hanging, break_long_words=False,
+                          break_on_hyphens=False) or [""]
+    for j, ln in enumerate(lines):
+        t = Text(ln)
+        if j == 0 and bold:
+            t.stylize("bold", len(indent), len(indent) + bold)
+        out_console.print(t, highlight=False, soft_wrap=True)
+
+
 def _print_models(info: dict[str, Any]) -> None:
-    """``simulate --list``: per model a heading, its paths, a table of its parameters (name, unit, range,
-    default, meaning) and its outputs with their units. Narrow columns never wrap; the meanings wrap at words."""
-    out_console.print(Text("models of resal simulate", style="bold"))
-    out_console.print(Text(f"units: {info['units']}; a parameter without a default must be given (--set "
-                           f"name=value); --list --json gives the same with path and regime codes"))
+    """``simulate --list``: per model a heading (model, section, paths), its meaning and the scenes it admits,
+    a line per parameter (name, unit, range, default, meaning; the meaning wrapped at words in the room left)
+    and its outputs with their units on one wrapped line."""
+    out_console.print(Text("models of resal simulate", style="bold"), highlight=False, soft_wrap=True)
+    _print_wrapped(f"units: {info['units']}. A line per parameter: name, unit (1: a pure number), range, "
+                   "default (required: give yours, --set name=value), meaning. --list --json: the same, with the "
+                   "codes and the cost of each path.")
     for m in info["models"]:
         out_console.print()
-        out_console.print(Text(m["model"], style="bold") + Text(f": {m['doc']} ({m['section']})"))
-        _print_items("paths (cost):", [f"{p['name']} ({p['cost']})" for p in m["paths"]], indent="  ")
-        out_console.print(Padding(Text(f"admits: {m['admits']}"), (0, 0, 0, 2), expand=False))
-        t = _plain_table()
-        for c in ("parameter", "unit", "range", "default", "meaning"):
-            t.add_column(c, no_wrap=c != "meaning", overflow="fold")
-        for p in m["parameters"]:
-            t.add_row(p["name"], p["unit"], _range_cell(p), _default_cell(p), p["doc"])
-        out_console.print(Padding(t, (0, 0, 0, 2), expand=False))
+        _print_wrapped(f"{m['model']}  {m['section']}  paths: {', '.join(p['name'] for p in m['paths'])}",
+                       hanging="    ", bold=len(m["model"]))
+        _print_wrapped(f"{m['doc']}; admits {m['admits']}", indent="  ", hanging="    ")
+        rows = [(p["name"], p["unit"], _range_cell(p), _default_cell(p), p["doc"]) for p in m["parameters"]]
+        widths = [max(len(r[i]) for r in rows) for i in range(4)]
+        lead = 2 + sum(widths) + 2 * 4  # the columns before the meaning
+        room = out_console.width - lead
+        for *cells, doc in rows:
+            head = "  " + "  ".join(c.ljust(w) for c, w in zip(cells, widths, strict=True))
+            if room >= 24:  # the meaning beside, wrapped under itself
+                _print_wrapped(f"{head}  {doc}", hanging=" " * lead)
+            else:  # a console too narrow: the meaning on the lines below
+                out_console.print(Text(head.rstrip()), highlight=False, soft_wrap=True)
+                _print_wrapped(doc, indent="      ")
         _print_items("outputs:", [f"{o['name']} ({o['unit']})" for o in m["outputs"]], indent="  ")
 
 

@@ -49,7 +49,7 @@ from .fit.kinds import MAX_RESAMPLES
 from .locate import names_a_file
 from .mechanics import paths, registry
 from .mechanics.paths import PathCode, Regime
-from .models import NOT_COMPUTED, OUTPUTS, solve_scene
+from .models import NOT_COMPUTED, OUTPUTS, code_name, solve_scene
 from .models import degrees as to_degrees
 from .processes import checkpoint, interruptible, process_pool
 from .results import Reproduction
@@ -366,9 +366,12 @@ class Simulation:
     """The outcome of ``simulate``: numbers and codes, no prose.
 
     ``path`` and ``regime`` hold one code per scene (int8 arrays of the batch's shape, 0-d for one scene):
-    ``PathCode`` (1 exact, 2 elementary, 3 resal, 4 resal-corrected, 5 ode) and ``Regime`` (0 frictionless,
-    1 slide, 2 grip, 3 no-slip), e.g. ``Regime(int(s.regime)).name``. ``inputs`` is the whole scene, defaults
-    included, and ``outputs`` the results, both in the units of ``resal simulate --json`` (SI, angles in degrees),
+    ``PathCode`` (1 exact, 2 elementary, 3 resal, 4 resal-corrected, 5 ode, 6 reference) and ``Regime``
+    (0 frictionless, 1 slide, 2 grip, 3 no-slip); ``path_name`` and ``regime_name`` hold their names beside them,
+    arrays of str of the same shape (``str(s.path_name)`` for one scene), the names ``resal simulate --json``
+    gives as path_name and regime_name (``PathCode.RESAL_CORRECTED``: "resal-corrected"). ``inputs`` is the whole
+    scene, defaults included, and ``outputs`` the results, both in the units of ``resal simulate --json`` (SI,
+    angles in degrees),
     the batch's shape first (then 3 for a vector, n for a ricochet's impacts); an output that a path does not
     compute is NaN for its scenes (``gamma`` of ``cue-stroke`` by ``ode``). ``units`` names the unit of every
     input and output (``resal simulate --list``: "1" a pure number, "code" a ``Regime`` per impact, "flag")."""
@@ -380,6 +383,13 @@ class Simulation:
     inputs: dict[str, np.ndarray]
     outputs: dict[str, np.ndarray]
     units: dict[str, str]
+    path_name: np.ndarray
+    regime_name: np.ndarray
+
+
+def _names(kind: type[PathCode] | type[Regime], codes: np.ndarray) -> np.ndarray:
+    """The names of an array of path or regime codes, an array of str of the same shape."""
+    return np.array([code_name(kind(int(c))) for c in codes.ravel()], dtype=str).reshape(codes.shape)
 
 
 def _scene_param(p: paths.Param) -> paths.Param:
@@ -568,8 +578,9 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
         v = degrees.get(p.name, _scene_param(p).default) if p.cli_degrees else full[p.name]
         inputs[p.name] = np.array(np.broadcast_to(v, shape) if np.ndim(v) <= len(shape) else np.reshape(v, shape),
                                   dtype=float)
-    return Simulation(model, res.method, path, np.asarray(res.regime), inputs, outputs,
-                      {k: units[k] for k in [*inputs, *outputs]})
+    regime = np.asarray(res.regime)
+    return Simulation(model, res.method, path, regime, inputs, outputs, {k: units[k] for k in [*inputs, *outputs]},
+                      _names(PathCode, path), _names(Regime, regime))
 
 
 @_quiet
