@@ -1,9 +1,15 @@
 # resal: `make all` rebuilds every table and figure; `make test` sets itself up and runs the suite.
 PYTHON ?= python3
+SHELL  := /bin/bash
+# pipefail: a failing pip fails the recipe, though its output is filtered
+.SHELLFLAGS := -o pipefail -c
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 LOCK   := requirements.lock
+# make test runs the suite on one pytest-xdist worker per core, each test file whole on one worker (its module
+# fixtures computed once); TEST_WORKERS=0 runs it in this process
+TEST_WORKERS ?= auto
 # pip-tools for `make lock`, in a virtualenv of its own (inside .venv) so that it adds nothing to the tested one
 LOCKTOOLS := $(VENV)/lock-tools
 PIPTOOLS  := pip-tools==7.6.2
@@ -19,8 +25,12 @@ setup:
 # The locked versions, every file's hash checked (requirements.lock: runtime and test dependencies, the build
 # backend included), then resal itself, editable, no dependency resolved, built by the locked setuptools.
 $(STAMP): pyproject.toml $(LOCK)
-	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install -q --require-hashes -r $(LOCK)
+	@test -x $(BIN)/python || { echo "creating the virtual environment $(VENV) (first run only)"; \
+	  $(PYTHON) -m venv $(VENV); }
+	@echo "installing the $$(grep -c '^[a-zA-Z]' $(LOCK)) locked dependencies of $(LOCK) into $(VENV)" \
+	  "(a first run downloads them: a minute or two; later runs only when the lock changes)"
+	$(BIN)/python -m pip install --progress-bar on --disable-pip-version-check --require-hashes -r $(LOCK) \
+	  | { grep -v '^Requirement already satisfied' || true; }
 	$(BIN)/python -m pip install -q --no-deps --no-build-isolation -e .
 	@touch $(STAMP)
 
@@ -45,7 +55,7 @@ all: $(STAMP)
 test: $(STAMP)
 	@$(BIN)/python tests/lockcheck.py $(LOCK)
 	$(BIN)/ruff check .
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist loadfile
 
 lint: $(STAMP)
 	$(BIN)/ruff check .

@@ -41,7 +41,7 @@ import numpy as np
 
 from . import locate, processes
 from .config import Experiment, load_experiment
-from .errors import ComputationError, InputError
+from .errors import ComputationError, InputError, did_you_mean
 from .experiments import KINDS
 from .fit import options as fit_options
 from .fit.kinds import KINDS as FIT_KINDS
@@ -49,15 +49,15 @@ from .fit.kinds import MAX_RESAMPLES
 from .locate import names_a_file
 from .mechanics import paths, registry
 from .mechanics.paths import PathCode, Regime
-from .models import NOT_COMPUTED, OUTPUTS, solve_scene
+from .models import NOT_COMPUTED, OUTPUTS, code_name, solve_scene
 from .models import degrees as to_degrees
 from .processes import checkpoint, interruptible, process_pool
 from .results import Reproduction
 from .series import MAX_CSV_BYTES
 
 __all__ = ["MAX_JOBS", "MAX_ODE_SCENES", "MAX_SCENES", "Fit", "FitEstimate", "FitWarning", "PathCode", "Regime",
-           "Simulation", "checkpoint", "config_dir", "experiment_ids", "fit", "interruptible", "list_experiments",
-           "load", "parallel_map", "reproduce", "run", "run_and_draw", "simulate"]
+           "RunProgress", "Simulation", "checkpoint", "config_dir", "experiment_ids", "fit", "interruptible",
+           "list_experiments", "load", "parallel_map", "reproduce", "run", "run_and_draw", "simulate"]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -203,7 +203,7 @@ def load(name_or_path: str | os.PathLike[str]) -> Experiment:
     if name not in ids:
         raise InputError(f"experiment '{_short(name)}'",
                          f"unknown experiment id (expected one of: {', '.join(ids) or 'none found'}, "
-                         "or the path of a YAML file)")
+                         f"or the path of a YAML file){did_you_mean(name, ids)}")
     return load_experiment(config_dir() / f"{name}.yaml", KINDS)
 
 
@@ -240,13 +240,34 @@ def _draw(job: tuple[Any, Path]) -> Path:
     return draw_figure(job)
 
 
+@dataclass(frozen=True)
+class RunProgress:
+    """Where ``run_and_draw`` stands, given to its ``progress`` callback as each experiment finishes running (then
+    ``finished`` is that experiment and ``seconds`` its running time, in its process) and as each figure is drawn.
+    ``figures`` is the number of figures to draw in all, None until every experiment has run (an experiment says
+    what it draws once it has run); its ``str`` is a line that says all this."""
+
+    experiments: int
+    ran: int
+    figures: int | None
+    drawn: int
+    finished: Reproduction | None = None
+    seconds: float | None = None
+
+    def __str__(self) -> str:
+        return (f"experiments run: {self.ran}/{self.experiments}; figures drawn: {self.drawn}/"
+                f"{'?' if self.figures is None else self.figures}")
+
+
 @_quiet
 def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path | str,
-                 progress: Callable[[str], None] | None = None) -> list[Reproduction]:
+                 progress: Callable[[RunProgress], None] | None = None) -> list[Reproduction]:
     """Run the experiments and render their figures into ``scratch/<id>/`` on up to ``jobs`` processes (1 to
     ``MAX_JOBS``), the figures of an experiment starting as soon as it has run (so one long experiment does not
-    idle a core). Results in the input order. Exceptions propagate: an ``InputError`` from a data file, what
-    ``progress`` raises, and ``OSError`` when ``scratch`` cannot be written (a full disk: the caller names it)."""
+    idle a core). Results in the input order. ``progress`` gets a ``RunProgress`` as each experiment finishes
+    (in the order they finish) and as each figure is drawn. Exceptions propagate: an ``InputError`` from a data
+    file, what ``progress`` raises, and ``OSError`` when ``scratch`` cannot be written (a full disk: the caller
+    names it)."""
     from .report import prepare_drawing
 
     exps = [_experiment(f"exps[{i}]", e) for i, e in enumerate(_sequence("exps", exps, "experiments"))]
@@ -259,57 +280,69 @@ def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path | str,
         raise InputError(f"scratch={_shown(str(scratch))}", f"cannot be used ({err.strerror or err})") from None
     progress = _callback("progress", progress)
     prepare_drawing()
+    n = len(exps)
     if jobs <= 1:
         reps = []
         for i, e in enumerate(exps, 1):
             checkpoint()
-            reps.append(run(e))
+            r, seconds = processes.timed(run, e)
+            reps.append(r)
             if progress is not None:
-                progress(f"running: {i}/{len(exps)} done")
+                progress(RunProgress(n, i, sum(len(x.figures) for x in reps) if i == n else None, 0, r, seconds))
+        n_fig = sum(len(r.figures) for r in reps)
+        drawn = 0
         for r in reps:
             for spec in r.figures:
                 checkpoint()
                 _draw((spec, scratch / r.experiment.id))
+                drawn += 1
+                if progress is not None:
+                    progress(RunProgress(n, n, n_fig, drawn))
         return reps
     from concurrent.futures import FIRST_COMPLETED, wait
 
-    reps: list[Reproduction | None] = [None] * len(exps)
+    reps: list[Reproduction | None] = [None] * n
     with _pool_dies_as_computation_error(jobs), process_pool(jobs) as pool:
         # the longest first (each kind's declared COST): the last to start should be short, not roze-ricochets
-        order = sorted(range(len(exps)), key=lambda i: -float(getattr(KINDS[exps[i].kind], "COST", 1.0)))
-        running = {pool.submit(run, exps[i]): i for i in order}
+        order = sorted(range(n), key=lambda i: -float(getattr(KINDS[exps[i].kind], "COST", 1.0)))
+        running = {pool.submit(processes.timed, run, exps[i]): i for i in order}
         drawing = set()
         n_fig = done_fig = 0
         while running or drawing:
             checkpoint()
             finished, _ = wait([*running, *drawing], return_when=FIRST_COMPLETED, timeout=0.5)
-            for fut in finished:
+            for fut in finished:  # each said as it happens: an experiment by name, a figure by the count
                 if fut in running:
                     i = running.pop(fut)
-                    reps[i] = r = fut.result()
+                    r, seconds = fut.result()
+                    reps[i] = r
                     n_fig += len(r.figures)
                     drawing |= {pool.submit(_draw, (spec, scratch / r.experiment.id)) for spec in r.figures}
+                    event = RunProgress(n, n - len(running), None if running else n_fig, done_fig, r, seconds)
                 else:
                     drawing.discard(fut)
                     fut.result()
                     done_fig += 1
-            if progress is not None:
-                progress(f"experiments run: {len(exps) - len(running)}/{len(exps)}; figures drawn: {done_fig}/"
-                         f"{n_fig}")
+                    event = RunProgress(n, n - len(running), None if running else n_fig, done_fig)
+                if progress is not None:
+                    progress(event)
     return reps  # type: ignore[return-value]
 
 
 def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
-                 progress: Callable[[int, int], None] | None = None) -> list[R]:
+                 progress: Callable[[int, int], None] | None = None,
+                 finished: Callable[[int, R, float], None] | None = None) -> list[R]:
     """``[fn(x) for x in items]`` on up to ``jobs`` processes (1 to ``MAX_JOBS``), results in the input order;
-    ``progress(done, total)`` is called as items finish. On more than one process, ``fn`` and the items must
-    pickle. What ``fn`` and ``progress`` raise propagates (an ``InputError`` from a data file); ``fn``'s warnings
-    and output are its own."""
+    ``progress(done, total)`` is called as items finish, and before it ``finished(index, result, seconds)``: which
+    item finished (its index in ``items``: out of order on several processes), its result and the seconds its call
+    took. On more than one process, ``fn`` and the items must pickle. What ``fn``, ``progress`` and ``finished``
+    raise propagates (an ``InputError`` from a data file); ``fn``'s warnings and output are its own."""
     if not callable(fn):
         raise InputError(f"fn={_shown(fn)}", f"expected a function, got {_a(fn)}")
     items = _sequence("items", items, "the items to map")
     jobs = _jobs(jobs)
     progress = _callback("progress", progress)
+    finished = _callback("finished", finished)
     if jobs > 1 and len(items) > 1:  # sent to worker processes: refused here, not by a pickling error there
         for where, x in (("fn", fn), *((f"items[{i}]", x) for i, x in enumerate(items))):
             try:
@@ -318,7 +351,7 @@ def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
                 raise InputError(f"{where}={_shown(x)}", f"cannot be sent to a worker process (it does not pickle: "
                                                          f"{_shown(err, 120)}); jobs=1 runs in this process") from None
     with _pool_dies_as_computation_error(jobs):
-        return processes.parallel_map(fn, items, jobs, progress)
+        return processes.parallel_map(fn, items, jobs, progress, finished)
 
 
 # ---- the Python entry point: simulate, reproduce, fit ---------------------------------------------------------
@@ -333,9 +366,12 @@ class Simulation:
     """The outcome of ``simulate``: numbers and codes, no prose.
 
     ``path`` and ``regime`` hold one code per scene (int8 arrays of the batch's shape, 0-d for one scene):
-    ``PathCode`` (1 exact, 2 elementary, 3 resal, 4 resal-corrected, 5 ode) and ``Regime`` (0 frictionless,
-    1 slide, 2 grip, 3 no-slip), e.g. ``Regime(int(s.regime)).name``. ``inputs`` is the whole scene, defaults
-    included, and ``outputs`` the results, both in the units of ``resal simulate --json`` (SI, angles in degrees),
+    ``PathCode`` (1 exact, 2 elementary, 3 resal, 4 resal-corrected, 5 ode, 6 reference) and ``Regime``
+    (0 frictionless, 1 slide, 2 grip, 3 no-slip); ``path_name`` and ``regime_name`` hold their names beside them,
+    arrays of str of the same shape (``str(s.path_name)`` for one scene), the names ``resal simulate --json``
+    gives as path_name and regime_name (``PathCode.RESAL_CORRECTED``: "resal-corrected"). ``inputs`` is the whole
+    scene, defaults included, and ``outputs`` the results, both in the units of ``resal simulate --json`` (SI,
+    angles in degrees),
     the batch's shape first (then 3 for a vector, n for a ricochet's impacts); an output that a path does not
     compute is NaN for its scenes (``gamma`` of ``cue-stroke`` by ``ode``). ``units`` names the unit of every
     input and output (``resal simulate --list``: "1" a pure number, "code" a ``Regime`` per impact, "flag")."""
@@ -347,6 +383,13 @@ class Simulation:
     inputs: dict[str, np.ndarray]
     outputs: dict[str, np.ndarray]
     units: dict[str, str]
+    path_name: np.ndarray
+    regime_name: np.ndarray
+
+
+def _names(kind: type[PathCode] | type[Regime], codes: np.ndarray) -> np.ndarray:
+    """The names of an array of path or regime codes, an array of str of the same shape."""
+    return np.array([code_name(kind(int(c))) for c in codes.ravel()], dtype=str).reshape(codes.shape)
 
 
 def _scene_param(p: paths.Param) -> paths.Param:
@@ -453,13 +496,15 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
     model = _text("model", model, f"a model's name (one of: {', '.join(registry.MODELS)})")
     if model not in registry.MODELS:
         raise InputError(f"model '{_short(model)}'", f"unknown model (expected one of: "
-                                                     f"{', '.join(registry.MODELS)})")
+                                                     f"{', '.join(registry.MODELS)})"
+                                                     f"{did_you_mean(model, registry.MODELS)}")
     m = registry.MODELS[model]
     names = [p.name for p in m.paths]
     method = _text("method", method, f"auto or a path of {model} ({', '.join(names)})")
     if method != "auto" and method not in names:
         raise InputError(f"method '{_short(method)}'", f"{model} has no path '{_short(method)}' (expected one of: "
-                                                       f"auto, {', '.join(names)})")
+                                                       f"auto, {', '.join(names)})"
+                                                       f"{did_you_mean(method, ['auto', *names])}")
     params = {p.name: p for p in m.params}
     values: dict[str, np.ndarray] = {}
     given_values: dict[str, np.ndarray] = {}  # as given, checked
@@ -468,7 +513,7 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
         p = params.get(name)
         if p is None:
             raise InputError(f"{_short(name)}=…", f"unknown parameter '{_short(name)}' for {model} (expected one "
-                                                  f"of: {', '.join(params)})")
+                                                  f"of: {', '.join(params)}){did_you_mean(name, params)}")
         q = _scene_param(p)
         vector = name in m.vectors
         a = _numbers(name, raw, "a 3-vector (x, y, z)" if vector else "a number or an array of numbers"
@@ -533,8 +578,9 @@ def simulate(model: str, method: str = "auto", **scene: Any) -> Simulation:
         v = degrees.get(p.name, _scene_param(p).default) if p.cli_degrees else full[p.name]
         inputs[p.name] = np.array(np.broadcast_to(v, shape) if np.ndim(v) <= len(shape) else np.reshape(v, shape),
                                   dtype=float)
-    return Simulation(model, res.method, path, np.asarray(res.regime), inputs, outputs,
-                      {k: units[k] for k in [*inputs, *outputs]})
+    regime = np.asarray(res.regime)
+    return Simulation(model, res.method, path, regime, inputs, outputs, {k: units[k] for k in [*inputs, *outputs]},
+                      _names(PathCode, path), _names(Regime, regime))
 
 
 @_quiet
@@ -713,7 +759,8 @@ def fit(kind: str, data: str | os.PathLike[str] | Mapping[str, Any], *, seed: in
 def _fit(kind: Any, data: Any, seed: Any, options: dict[str, Any]) -> Fit:
     kind = _text("kind", kind, f"one of {', '.join(FIT_KINDS)}")
     if kind not in FIT_KINDS:
-        raise InputError(f"kind '{_short(kind)}'", f"expected one of {', '.join(FIT_KINDS)}")
+        raise InputError(f"kind '{_short(kind)}'", f"expected one of {', '.join(FIT_KINDS)}"
+                                                   f"{did_you_mean(kind, FIT_KINDS)}")
     takes = FIT_KINDS[kind].options
     for name in options:
         if name not in takes:

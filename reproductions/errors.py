@@ -4,6 +4,7 @@ failed on valid input (exit status 1) and an interruption by a signal (exit stat
 from __future__ import annotations
 
 import signal
+from collections.abc import Iterable
 
 
 class InputError(Exception):
@@ -19,6 +20,17 @@ class InputError(Exception):
 
     def __reduce__(self) -> tuple[type, tuple[str, str]]:  # so that it crosses process boundaries intact
         return (InputError, (self.where, self.message))
+
+
+def did_you_mean(given: str, known: Iterable[str]) -> str:
+    """``"; did you mean X?"`` for the name of ``known`` closest to ``given`` (a typo: difflib's ratio at least
+    0.6, as click's suggestions of options), else ``""``: the end of an "unknown …" message."""
+    import difflib
+
+    if not isinstance(given, str) or len(given) > 200:  # not a typo of a name
+        return ""
+    close = difflib.get_close_matches(given, [k for k in known if k != given], n=1, cutoff=0.6)
+    return f"; did you mean {close[0]}?" if close else ""
 
 
 class ComputationError(InputError):

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from .errors import InputError
 
-__all__ = ["ENV", "config_dir", "experiment_ids", "names_a_file", "path_exists"]
+__all__ = ["ENV", "config_dir", "example_files", "examples_dir", "experiment_ids", "names_a_file", "path_exists"]
 
 ENV = "RESAL_CONFIGS"  # the environment variable naming a folder of experiment files, in place of the shipped ones
 
@@ -32,6 +32,30 @@ def config_dir() -> Path:
     if isinstance(shipped, Path) and shipped.is_dir():
         return shipped
     return Path(__file__).resolve().parent.parent / "configs"
+
+
+def examples_dir() -> Path:
+    """Where the example files of ``resal fit`` are (synthetic CSVs, one per kind): the package
+    ``reproductions.examples`` found by importlib.resources (the repository's ``examples/`` folder, which the wheel
+    ships and the editable install maps, pyproject.toml); else, in a checkout that was never installed (or whose
+    editable install predates the mapping), the ``examples/`` folder beside this package."""
+    try:
+        shipped = resources.files("reproductions.examples")
+    except ModuleNotFoundError:
+        shipped = None
+    if isinstance(shipped, Path) and shipped.is_dir():
+        return shipped
+    return Path(__file__).resolve().parent.parent / "examples"
+
+
+def example_files() -> list[Path]:
+    """The example files that ``resal examples`` copies out: the CSVs of :func:`examples_dir` and its README.md,
+    sorted by name (not its Python files: ``__init__.py``, and ``generate.py``, which writes the CSVs in a
+    checkout). None when the folder is missing."""
+    d = examples_dir()
+    if not d.is_dir():
+        return []
+    return sorted(p for p in d.iterdir() if p.is_file() and (p.suffix == ".csv" or p.name == "README.md"))
 
 
 def _env_folder(env: str) -> Path:

@@ -14,10 +14,11 @@ from typing import Any
 import numpy as np
 
 from .config import comma_problem, comma_readings, parse_number, printable, shorten, underflows
-from .errors import ComputationError, InputError
+from .errors import ComputationError, InputError, did_you_mean
 from .mechanics import paths, registry
 
-__all__ = ["NOT_COMPUTED", "OUTPUTS", "degrees", "describe", "list_models", "simulate", "solve_scene"]
+__all__ = ["NOT_COMPUTED", "OUTPUTS", "RADIANS", "code_name", "degrees", "describe", "list_models",
+           "radians_warnings", "simulate", "solve_scene"]
 
 
 def _cli(p: paths.Param, value: float | None) -> float | None:
@@ -25,6 +26,11 @@ def _cli(p: paths.Param, value: float | None) -> float | None:
     if value is None:
         return None
     return degrees(value) if p.cli_degrees else value
+
+
+def code_name(code: paths.PathCode | paths.Regime) -> str:
+    """A path's or regime's name as ``simulate --json`` gives it beside its code: RESAL_CORRECTED → resal-corrected."""
+    return code.name.lower().replace("_", "-")
 
 
 def degrees(radians: float) -> float:
@@ -80,6 +86,22 @@ OUTPUTS: dict[str, dict[str, tuple[str, str]]] = {
         "cos_phi": ("1", "cosine of the angle of the cue axis with the normal at the contact, eq. (11)")},
 }
 NOT_COMPUTED = {("cue-stroke", "ode", "gamma")}  # (model, path, output): the path does not compute it (NaN)
+# Every angle given below 1.6 (degrees) and none 0: radians typed for degrees, most likely (π/2 ≈ 1.57); the same
+# bound as ``resal fit``'s check of a column of degrees (``fit.kinds.markers.RADIANS``)
+RADIANS = 1.6
+
+
+def radians_warnings(m: paths.Model, values: dict[str, Any]) -> list[dict[str, str]]:
+    """The warning (as ``resal fit``'s: code and message) when every angle given (``values`` in radians, as
+    parsed) is nonzero and below ``RADIANS`` degrees: angles in radians typed where degrees are read."""
+    given = {p.name: degrees(values[p.name]) for p in m.params if p.cli_degrees and p.name in values}
+    if not given or not all(0 < abs(v) < RADIANS for v in given.values()):
+        return []
+    said = ", ".join(f"{k}={v:g}" for k, v in given.items())
+    meant = ", ".join(f"{v:g} rad is {k}={math.degrees(v):.4g}" for k, v in given.items())
+    return [{"code": "implausible-input", "message": f"{said}: {'every angle' if len(given) > 1 else 'an angle'} "
+                                                      f"below {RADIANS:g}°, radians typed for degrees? resal "
+                                                      f"simulate reads angles in degrees ({meant})"}]
 
 
 def _param_info(p: paths.Param, vector: bool) -> dict[str, Any]:
@@ -111,8 +133,8 @@ def list_models() -> dict[str, Any]:
     """Every model, the codes of paths and regimes, and the units convention of the command line."""
     return {
         "units": "SI; angles in degrees on the command line (radians in the physics); vectors as x,y,z",
-        "path_codes": {p.name.lower().replace("_", "-"): int(p) for p in paths.PathCode},
-        "regime_codes": {r.name.lower().replace("_", "-"): int(r) for r in paths.Regime},
+        "path_codes": {code_name(p): int(p) for p in paths.PathCode},
+        "regime_codes": {code_name(r): int(r) for r in paths.Regime},
         "models": [describe(m) for m in registry.MODELS.values()],
     }
 
@@ -128,7 +150,8 @@ def _parse(m: paths.Model, assignment: str) -> tuple[str, Any]:
     param = next((p for p in m.params if p.name == name), None)
     if param is None:
         raise InputError(where, f"unknown parameter '{name}' for {m.name} "
-                                f"(expected one of: {', '.join(p.name for p in m.params)})")
+                                f"(expected one of: {', '.join(p.name for p in m.params)})"
+                                f"{did_you_mean(name, [p.name for p in m.params])}")
     if name not in m.vectors and "," in text:
         raise InputError(where, f"'{name}' is one number, got '{shorten(text)}': {comma_problem(text)}")
     parts = text.split(",") if name in m.vectors else [text]
@@ -212,11 +235,13 @@ def _first_line(err: BaseException) -> str:
 def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[str, Any]:
     """Run one scene; ``assignments`` are ``name=value`` strings. Raises ``InputError`` on bad input."""
     if model not in registry.MODELS:
-        raise InputError(f"model '{model}'", f"unknown model (expected one of: {', '.join(registry.MODELS)})")
+        raise InputError(f"model '{model}'", f"unknown model (expected one of: {', '.join(registry.MODELS)})"
+                                             f"{did_you_mean(model, registry.MODELS)}")
     m = registry.MODELS[model]
     if method != "auto" and method not in [p.name for p in m.paths]:
         raise InputError(f"--method {method}", f"{model} has no path '{method}' (expected one of: auto, "
-                                               f"{', '.join(p.name for p in m.paths)})")
+                                               f"{', '.join(p.name for p in m.paths)})"
+                                               f"{did_you_mean(method, ['auto', *(p.name for p in m.paths)])}")
     values: dict[str, Any] = {}
     for a in assignments:
         name, v = _parse(m, a)
@@ -236,7 +261,7 @@ def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[s
               for p in m.params}
     skip = {"method", "path", "regime", "label"}
     code, regime = int(np.ravel(res.path)[0]), int(np.ravel(res.regime)[0])
-    path_name = paths.PathCode(code).name.lower().replace("_", "-")
+    path_name = code_name(paths.PathCode(code))
     units = OUTPUTS[model]
     outputs: dict[str, Any] = {}
     for name in res.__dataclass_fields__:
@@ -253,7 +278,8 @@ def simulate(model: str, assignments: list[str], method: str = "auto") -> dict[s
         raise InputError(given, f"the scene's outputs overflow ({', '.join(bad_out)} not finite): expected inputs "
                                 "whose products and squares stay within floating point (|x| ≲ 1e150 in SI units)")
     return {"model": model, "method": res.method, "path": code, "path_name": path_name,
-            "regime": regime, "regime_name": paths.Regime(regime).name.lower().replace("_", "-"),
+            "regime": regime, "regime_name": code_name(paths.Regime(regime)),
             "label": res.label, "inputs": inputs, "outputs": outputs,
             "units": {"inputs": {p.name: "degrees" if p.cli_degrees else p.unit for p in m.params},
-                      "outputs": {n: units[n][0] for n in outputs}}}
+                      "outputs": {n: units[n][0] for n in outputs}},
+            "warnings": radians_warnings(m, values)}

@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import signal
 import sys
+import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any, TypeVar
@@ -143,14 +144,26 @@ def process_pool(jobs: int) -> Iterator[Any]:
     pool.shutdown(wait=True)
 
 
+def timed(fn: Callable[[T], R], x: T) -> tuple[R, float]:
+    """``fn(x)`` and the seconds it took, timed in whichever process runs it (a worker's queue is not counted)."""
+    t0 = time.perf_counter()
+    return fn(x), time.perf_counter() - t0
+
+
 def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
-                 progress: Callable[[int, int], None] | None = None) -> list[R]:
+                 progress: Callable[[int, int], None] | None = None,
+                 finished: Callable[[int, R, float], None] | None = None) -> list[R]:
     """``[fn(x) for x in items]`` on up to ``jobs`` processes, results in the input order; ``progress(done,
-    total)`` is called as items finish. Exceptions (an ``InputError`` from a data file) propagate."""
+    total)`` is called as items finish, and before it ``finished(index, result, seconds)`` (the item's index in
+    ``items``, out of order on several processes; the seconds its call took). Exceptions (an ``InputError`` from a
+    data file) propagate."""
     if jobs <= 1 or len(items) <= 1:
         out = []
         for i, x in enumerate(items, 1):
-            out.append(fn(x))
+            r, seconds = timed(fn, x)
+            out.append(r)
+            if finished:
+                finished(i - 1, r, seconds)
             if progress:
                 progress(i, len(items))
         return out
@@ -158,9 +171,12 @@ def parallel_map(fn: Callable[[T], R], items: Sequence[T], jobs: int,
 
     results: list[R | None] = [None] * len(items)
     with process_pool(min(jobs, len(items))) as pool:
-        futures = {pool.submit(fn, x): i for i, x in enumerate(items)}
+        futures = {pool.submit(timed, fn, x): i for i, x in enumerate(items)}
         for done, fut in enumerate(as_completed(futures), 1):
-            results[futures[fut]] = fut.result()
+            r, seconds = fut.result()
+            results[futures[fut]] = r
+            if finished:
+                finished(futures[fut], r, seconds)
             if progress:
                 progress(done, len(items))
     return results  # type: ignore[return-value]

@@ -47,6 +47,7 @@ __all__ = [
     "index_md",
     "is_beyond",
     "make_staging",
+    "paper_order",
     "paper_rows",
     "parse_source",
     "provenance",
@@ -868,11 +869,14 @@ def _summaries(out: Path, skipped: list[tuple[Path, str]] | None = None) -> list
                     skipped.append((f, why))
                 continue
             found.append((d.name, json.loads(f.read_text(encoding="utf-8"))))
-    def page(s: dict[str, Any]) -> int:
-        p = s["source"].get("page")
-        return p if isinstance(p, int) else 0
+    return sorted(found, key=lambda x: paper_order(x[1]["source"].get("page"), x[1]["experiment"]))
 
-    return sorted(found, key=lambda x: (page(x[1]), x[1]["experiment"]))
+
+def paper_order(page: Any, experiment: str, measured: bool = False) -> tuple[bool, int, str]:
+    """Where an experiment stands in the reader's edition: by its page in the paper, then its id (no page: first);
+    ``measured``, an experiment of today's measurements (``Experiment.measured``, a summary's ``measurements``):
+    after the paper's, in the edition's part of its own (``edition.build``), in the same order."""
+    return (bool(measured), page if isinstance(page, int) else 0, experiment)
 
 
 # -- the paper as a whole: index.md, paper-table.{md,csv,tex}, report.pdf ---------------------------------------

@@ -1,5 +1,5 @@
 """The Python entry point (``reproductions.api``: simulate, reproduce, fit) agrees with the command line, takes the
-same units, refuses bad input by name, writes nothing, and its README example runs as written."""
+same units, refuses bad input by name, writes nothing, and its example (docs/api.md) runs as written."""
 
 from __future__ import annotations
 
@@ -48,17 +48,16 @@ def _set_args(scene: dict) -> list[str]:
     return out
 
 
-# ---- the README's example ------------------------------------------------------------------------------------
-def _readme_example() -> str:
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    section = text.split("\n## From Python\n", 1)[1].split("\n## ", 1)[0]
-    blocks = section.split("```python\n")
-    assert len(blocks) == 2, "the From Python section holds one python block"
+# ---- the example of docs/api.md ------------------------------------------------------------------------------
+def _doc_example() -> str:
+    text = (ROOT / "docs" / "api.md").read_text(encoding="utf-8")
+    blocks = text.split("```python\n")
+    assert len(blocks) == 2, "docs/api.md holds one python block"
     return blocks[1].split("\n```", 1)[0]
 
 
-def test_readme_from_python_example_runs_and_writes_nothing(tmp_path):
-    code = _readme_example()
+def test_api_doc_example_runs_and_writes_nothing(tmp_path):
+    code = _doc_example()
     for call in ("api.simulate(", "api.reproduce(", "api.fit("):
         assert call in code
     env = {**os.environ, "PYTHONPATH": str(ROOT)}

@@ -14,7 +14,8 @@ import pytest
 from cli_helpers import assert_bad, invoke
 from typer.testing import CliRunner, Result
 
-from cli import main
+from cli import common
+from cli import diff as diff_cmd
 from cli.main import app
 from reproductions import diffing, golden
 
@@ -106,23 +107,23 @@ def test_a_modern_symbol_repeats_per_source_but_with_one_resal_value(tmp_path: P
     one_line_error(invoke("diff", same, bad), f"{bad}: ", "modern[1]", "'e'", "another resal value")
 
 
-# -- different experiments: a difference, exit 1 ------------------------------------------------------------------
-def test_different_experiments_with_the_same_numbers_differ(tmp_path: Path) -> None:
+# -- different experiments: two summaries, bad input (exit 2, one line); two results folders, a difference ---------
+def test_two_summaries_of_different_experiments_are_one_line_of_bad_input(tmp_path: Path) -> None:
     a = write(tmp_path / "a.json", summary(experiment="ball-ball"))
-    b = write(tmp_path / "b.json", summary(experiment="cue-stroke"))
-    res = invoke("diff", a, b)
-    assert res.exit_code == 1, res.output
-    assert f"different experiments: ball-ball in {a}, cue-stroke in {b}" in " ".join(res.stdout.split())
+    b = write(tmp_path / "b.json", summary(experiment="cue-stroke", shift=1.0))  # numbers differ too: not listed
+    one_line_error(invoke("diff", a, b), f"{a} is experiment ball-ball, {b} is experiment cue-stroke",
+                   "compare summaries of one experiment")
     assert invoke("diff", a, a).exit_code == 0
 
 
 def test_different_experiments_in_two_results_folders_differ(tmp_path: Path) -> None:
-    for side, eid in (("a", "ball-ball"), ("b", "cue-stroke")):
+    for side, eid, shift in (("a", "ball-ball", 0.0), ("b", "cue-stroke", 1.0)):
         (tmp_path / side / "x").mkdir(parents=True)
-        write(tmp_path / side / "x" / "summary.json", summary(experiment=eid))
+        write(tmp_path / side / "x" / "summary.json", summary(experiment=eid, shift=shift))
     res = invoke("diff", tmp_path / "a", tmp_path / "b")
     assert res.exit_code == 1, res.output
     assert "x: different experiments: ball-ball" in res.stdout
+    assert "quantities differ" not in res.stdout  # the one line, not the quantities of two experiments
 
 
 def test_the_exit_statuses_are_in_the_help() -> None:
@@ -229,7 +230,7 @@ def test_diff_is_linear_in_the_differences(tmp_path: Path, monkeypatch: pytest.M
     and width, the share of lines long enough for rich grew with n and with the length of the temporary path,
     which differs from machine to machine: the count measured that share, not the comparison.)"""
     small, large = 150, 600
-    monkeypatch.setattr(main.out_console, "_width", columns)  # the console was sized at import
+    monkeypatch.setattr(common.out_console, "_width", columns)  # the console was sized at import
     monkeypatch.chdir(tmp_path)
     runs = {n: tuple(p.relative_to(tmp_path) for p in _every_value_changed(n, tmp_path)) for n in (small, large)}
 
@@ -270,7 +271,7 @@ def test_differences_are_written_as_rich_writes_them(tmp_path: Path, monkeypatch
     for a, b in pairs:
         for width in (80, 100):
             fast = _run_at(width, a, b)
-            monkeypatch.setattr(main, "_plain_width", lambda: -1)  # every line through rich
+            monkeypatch.setattr(diff_cmd, "_plain_width", lambda: -1)  # every line through rich
             slow = _run_at(width, a, b)
             monkeypatch.undo()
             monkeypatch.chdir(tmp_path)
@@ -279,11 +280,11 @@ def test_differences_are_written_as_rich_writes_them(tmp_path: Path, monkeypatch
 
 
 def _run_at(width: int, a: Path, b: Path) -> str:
-    before = main.out_console._width
-    main.out_console.width = width
+    before = common.out_console._width
+    common.out_console.width = width
     try:
         res = CliRunner(env={"COLUMNS": str(width)}).invoke(app, ["diff", str(a), str(b)])
     finally:
-        main.out_console._width = before
+        common.out_console._width = before
     assert res.exit_code == 1, res.output
     return res.stdout

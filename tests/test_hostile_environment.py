@@ -359,4 +359,5 @@ def test_a_memory_limit_ends_in_one_line_not_a_traceback() -> None:
     assert "Traceback" not in r.stderr, r.stderr
     if r.returncode != 0:  # where 300 MB is too little to load numpy and scipy
         assert r.returncode == 1, r.stderr
-        _one_error_line(r.stderr, "cannot load")
+        line = _one_error_line(r.stderr)  # numpy's or scipy's import fails: ImportError or MemoryError, by where
+        assert "cannot load" in line or "out of memory" in line, line

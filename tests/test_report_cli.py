@@ -108,7 +108,7 @@ def test_simulate_list_names_models_and_parameters():
     res = runner.invoke(app, ["simulate", "--list"])
     assert res.exit_code == 0
     assert "direct-impact" in res.stdout and "wall-impact" in res.stdout
-    assert re.search(r"^\s+epsp\s+1\s+\[0, 1\]\s+required\s", res.stdout, re.M)  # unit, range, no default
+    assert re.search(r"^\s+epsp\s+1\s+0 ≤ epsp ≤ 1\s+required\s", res.stdout, re.M)  # unit, range, no default
 
 
 def test_simulate_list_json_gives_every_model_its_paths_and_units():

@@ -46,6 +46,7 @@ def fit_lines(s: dict[str, Any], warnings: bool = True) -> list[str]:
                      f"{b['note']}")
     if s.get("noise") and "chosen_by" in s["noise"]:
         lines.append(f"noise model: {s['noise']['model']} (chosen by {s['noise']['chosen_by']})")
+    lines += _verdict_lines(s)
     if s.get("speed_dependence"):
         lines.append(f"speed dependence: {s['speed_dependence']['verdict']}")
         if s["speed_dependence"].get("law"):
@@ -71,13 +72,45 @@ def fit_lines(s: dict[str, Any], warnings: bool = True) -> list[str]:
     return lines
 
 
+def _verdict_lines(s: dict[str, Any]) -> list[str]:
+    """The tests a fit ran on its own data, as verdicts: whether its series agree (``agreement``: a likelihood
+    ratio of the joint fit against each series alone, with the f intervals of each series alone, which a reader
+    compares first) and whether the residuals trend with the impact angle (``residual_trend``, per series)."""
+    lines = []
+    agreement = s.get("agreement")
+    if agreement:
+        ok = agreement["p"] >= 0.05
+        why = (f"p = {agreement['p']:.2g}, likelihood ratio {agreement['lr']:.3g} on {agreement['dof']} degrees of "
+               "freedom")
+        alone = [f["ci95"] for f in s["fits"] if f["id"].endswith(".f") and not f["id"].startswith("joint.")
+                 and f["ci95"] and f["ci95"][0] is not None]
+        if len(alone) == 2:
+            (a0, a1), (b0, b1) = alone
+            why += (f"; f intervals {_ci(alone[0])} and {_ci(alone[1])} "
+                    f"{'overlap' if a0 <= b1 and b0 <= a1 else 'do not overlap'}")
+        lines.append(f"series agree: {'yes' if ok else 'no'} ({why})")
+    for series, t in (s.get("residual_trend") or {}).items():
+        slope = f"{t['slope_per_10deg']:+.2g} ± {t['stderr_per_10deg']:.2g}° per 10°, p = {t['p']:.2g}"
+        lines.append(f"residual trend against ψ ({series}): "
+                     + (f"none (slope {slope})" if t["p"] >= 0.05 else f"slope {slope}: a constant friction through "
+                        "the impact does not describe it"))
+    return lines
+
+
+def has_bootstrap(s: dict[str, Any]) -> bool:
+    """Whether some estimate of the fit has a bootstrap interval (else no column for them is shown)."""
+    return any(f.get("ci95_bootstrap") and f["ci95_bootstrap"][0] is not None for f in s["fits"])
+
+
 def fit_markdown(s: dict[str, Any]) -> str:
     """fit.md: the estimates as a table, then ``fit_lines`` as a list."""
     out = [f"# resal fit {s['kind']}: {Path(s['file']).name} ({s['n']} rows)", ""]
-    out += ["| parameter | value | std. error | 95 % interval | bootstrap 95 % | note |", "|---|---|---|---|---|---|"]
+    boot = has_bootstrap(s)
+    out += ["| parameter | value | std. error | 95 % interval |" + (" bootstrap 95 % |" if boot else "") + " note |",
+            "|---|---|---|---|" + ("---|" if boot else "") + "---|"]
     for f in s["fits"]:
         out.append(f"| {f['parameter']} | {_num(f['value'])} | {_num(f['stderr'], 3)} | {_ci(f['ci95'])} | "
-                   f"{_ci(f.get('ci95_bootstrap'))} | {f['note']} |")
+                   + (f"{_ci(f.get('ci95_bootstrap'))} | " if boot else "") + f"{f['note']} |")
     out += [""] + [f"- {ln}" for ln in fit_lines(s)]
     return "\n".join(out) + "\n"
 

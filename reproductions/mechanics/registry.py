@@ -795,7 +795,7 @@ def _build() -> dict[str, Model]:
             Path(PathCode.ODE, Kind.ODE, _ricochet_ode, always, 1e-8, 1000,
                  "impacts and flights integrated (DOP853)", tuned=_ricochet_ode, rtol=1e-11, solver="DOP853"),
         ), ("ranges", "times", "chi", "zeta", "p*R"), lambda s: np.ones(np.shape(s["a0"]), dtype=bool),
-            "every launch (a0 > 0, 0 < α0 < π/2)", static=("n",), sample=_ricochet_sample,
+            "every launch (a0 > 0, 0 < α0 < 90°)", static=("n",), sample=_ricochet_sample,
             scale=lambda s: np.asarray(s["a0"]) * (1 + np.asarray(s["a0"]) / np.asarray(s["g"]))
             + np.abs(s["p0"] * s["R"]), vis_viva=_ricochet_vis_viva, momentum=_ricochet_momentum),
         Model("cloth-slide", "§II n°7, eqs (1)-(5)", "a ball sliding on the cloth until it rolls", (

@@ -1,0 +1,88 @@
+"""``resal bench``: the work-precision benchmark of every model × path."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from cli.app import app
+from cli.common import _fail, _known_models, _out_folder, _print_grouped, err_console, out_console
+from reproductions.errors import ComputationError, InputError
+
+
+def _micro(us: float) -> str:
+    """Microseconds in at most 6 characters: 3 significant digits below 1000 (52.9), whole numbers with a thin
+    group above (5 070), never an exponent (a referee's milliseconds widened the column past 80)."""
+    return f"{us:.3g}" if us < 1000 else f"{us:,.0f}".replace(",", "\u2009")
+
+
+@app.command()
+def bench(
+    models: Annotated[list[str] | None, typer.Argument(help="models (default: all; see simulate --list)")] = None,
+    quick: Annotated[bool, typer.Option("--quick", help="small batches: a check that ends in seconds")] = False,
+    out: Annotated[Path, typer.Option("--out", help="folder for bench.json, bench.md, figures",
+                                      parser=_out_folder)] = Path("results/bench"),
+) -> None:
+    """Benchmark every model × path: time per scene against error.
+
+    \b
+    Examples:
+      resal bench wall-impact --quick
+      resal bench direct-impact cue-stroke --quick --out bench-two
+      resal bench --quick
+
+    The work-precision benchmark: scenes per second and the error where a path declares itself exact, for every
+    path of every model, and auto's Pareto verdict (wrong if another exact path is faster and as accurate).
+    Without --quick it takes minutes.
+    """
+    from rich.progress import Progress
+
+    from reproductions import bench as bench_mod
+    from reproductions.mechanics import registry
+
+    names = _known_models(models)
+    total = sum(len(registry.MODELS[m].paths) + 1 for m in (names or registry.MODELS))
+    try:
+        from reproductions.report import ensure_writable
+
+        ensure_writable(out)  # before minutes of work
+    except InputError as err:
+        _fail(err)
+    with Progress(console=err_console, transient=True, disable=not err_console.is_terminal) as bar:
+        task = bar.add_task("benchmark", total=total)
+
+        def step(what: str) -> None:
+            bar.update(task, advance=1, description=what)
+
+        rep = bench_mod.run(names, quick=quick, progress=step)
+    try:
+        written = bench_mod.write(rep, out)
+    except InputError as err:
+        _fail(err)
+    except OSError as err:  # the environment (a full disk): exit status 1, the earlier benchmark whole
+        _fail(ComputationError(f"--out {out}", f"cannot write the benchmark ({err.strerror or err}); the earlier "
+                                               "one is as it was"))
+    groups = []
+    for mod in rep["models"]:
+        wrong = [v for v in mod["pareto"] if v["faster_and_as_accurate"]]
+        rows = []
+        for r in mod["paths"]:
+            e = r["where_exact"]["max_error"]
+            n1 = r.get("n1_seconds")
+            rows.append(([r["path"], r["kind"], f"{r['scenes_per_second']:.3g}",
+                          "—" if n1 is None or not math.isfinite(n1) else _micro(n1 * 1e6),
+                          "—" if e is None else f"{e:.2e}",
+                          ("wrong" if wrong else "right") if r["path"] == "auto" else ""], ""))
+        groups.append((mod["model"], rows))
+    _print_grouped("work-precision: scenes per second in a batch; µs for one scene (N = 1); max error where the "
+                   "path declares itself exact; auto: wrong if another exact path is faster and as accurate",
+                   ("model / path", "kind", "scenes/s", "N=1 µs", "max error", "auto"), groups, right=(2, 3, 4))
+    if "make_all" in rep:
+        ma = rep["make_all"]
+        out_console.print(f"make all (reproduce --all), median of {ma['repeat']}: {ma['cold']['median_wall']:.2f} s "
+                          f"recomputing everything, {ma['cached']['median_wall']:.2f} s with nothing changed",
+                          highlight=False)
+    err_console.print(f"wrote {', '.join(str(p) for p in written[:2])} and {len(written) - 2} figure files")
