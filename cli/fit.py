@@ -114,8 +114,9 @@ def _fit_options() -> dict[str, tuple[Any, Any]]:
             help="ball-ball: known standard deviation of the measured directions, in their column's unit")], None),
         "max_seconds": (Annotated[float, typer.Option(
             "--max-seconds", parser=_fit_option("max_seconds"),
-            help="bound on the fit's wall-clock time, its refits included: past it the fit stops with a message "
-                 "(exit 1) and writes nothing")], 120.0),
+            help="bound on the fit's wall-clock time, its refits included: reached before the estimate, the fit "
+                 "stops (exit 1, nothing written); after it, the estimate is written with a time-bound warning "
+                 "naming what was not done (the bootstrap: how many resamples ran)")], 120.0),
         "bootstrap": (Annotated[int, typer.Option(
             "--bootstrap", parser=_count("--bootstrap", 0, fitkinds.MAX_RESAMPLES, "a number of resamples"),
             help="bootstrap resamples, each refitted (0: none)")], 1000),

@@ -2,7 +2,7 @@
 refusal (the corpus, tests/test_fit_traps.py; here what it does not check: the mirrored reading's own fit, the
 refusal's line for each angle column, χ² itself); a published table of speeds alone (blank cells too) fits, each
 shot predicted from the others; e's interval, the profile likelihood's with the bound e ≤ 1, covers near the bound;
-the fit has a time bound."""
+the fit has a time bound, which keeps the estimate once it has one."""
 
 import json
 from dataclasses import replace
@@ -163,13 +163,73 @@ def test_shot_tables_that_say_nothing_are_refused(tmp_path):
     assert "give the noise of each kind of value the file measures" in err
 
 
-def test_a_fit_past_its_time_bound_stops_and_writes_nothing(tmp_path, monkeypatch):
+def test_a_fit_past_its_time_bound_before_its_estimate_stops_and_writes_nothing(tmp_path, monkeypatch):
     with pytest.raises(ComputationError, match="time bound of 1e-09 s"):
         fit_csv("ball-ball", EXAMPLE, FitOptions(R=R, resamples=0, max_seconds=1e-9))
     monkeypatch.setitem(run.FITTERS, "ball-ball", lambda k, p, o: fit_ballball(k, p, replace(o, max_seconds=1e-9)))
     res = runner.invoke(app, ["fit", "ball-ball", str(EXAMPLE), "--out", str(tmp_path / "o")])
     assert res.exit_code == 1 and "nothing was written" in " ".join(res.stderr.split())
     assert not (tmp_path / "o").exists()
+
+
+class _ClockJump:
+    """A progress object that moves the fit's clock past any bound once ``after`` resamples are done, or as soon as
+    the stage ``at`` is announced: the time bound reached at a chosen point, with no wait and no race."""
+
+    def __init__(self, clock: list[float], inner=None, after: int | None = None, at: str | None = None) -> None:
+        self.clock, self.inner, self.after, self.at = clock, inner, after, at
+
+    def __call__(self, done: int) -> None:
+        if self.after is not None and done >= self.after:
+            self.clock[0] = 1e12
+        if self.inner is not None:
+            self.inner(done)
+
+    def stage(self, what: str, total: int) -> None:
+        if what == self.at:
+            self.clock[0] = 1e12
+        if self.inner is not None and hasattr(self.inner, "stage"):
+            self.inner.stage(what, total)
+
+
+@pytest.fixture
+def clock(monkeypatch) -> list[float]:
+    now = [0.0]
+    monkeypatch.setattr(fb.time, "monotonic", lambda: now[0])  # the clock of the bound, in shots and in ballball
+    return now
+
+
+def test_the_bound_reached_in_the_bootstrap_keeps_the_estimate(clock):
+    """Stopped after 20 of 100 resamples (batches of 10): the same estimate and profile intervals as a fit with no
+    bootstrap, no bootstrap interval, a time-bound warning and a bootstrap record saying how many ran."""
+    whole = fit_csv("ball-ball", EXAMPLE, FitOptions(R=R, resamples=0)).summary
+    s = fit_csv("ball-ball", EXAMPLE, FitOptions(R=R, resamples=100, max_seconds=60,
+                                                 progress=_ClockJump(clock, after=20))).summary
+    assert [(f["value"], f["ci95"]) for f in s["fits"]] == [(f["value"], f["ci95"]) for f in whole["fits"]]
+    assert all(f["ci95_bootstrap"] is None for f in s["fits"])
+    assert s["bootstrap"]["resamples"] == 20 and s["bootstrap"]["requested"] == 100
+    [w] = [w for w in s["warnings"] if w["code"] == "time-bound"]
+    assert "after 20 of 100 resamples" in w["message"]
+    assert s["conventions"]["readings"]  # done before the bound
+
+
+def test_the_bound_reached_in_the_convention_check_keeps_the_estimate(clock):
+    s = fit_csv("ball-ball", EXAMPLE, FitOptions(R=R, resamples=100, max_seconds=60,
+                                                 progress=_ClockJump(clock, at="conventions"))).summary
+    assert s["conventions"] is None and all(f["value"] is not None for f in s["fits"])
+    msgs = [w["message"] for w in s["warnings"] if w["code"] == "time-bound"]
+    assert len(msgs) == 2 and "check of other conventions" in msgs[0] and "after 0 of 100" in msgs[1]
+
+
+def test_the_command_writes_a_fit_stopped_in_its_bootstrap_and_says_so(tmp_path, monkeypatch, clock):
+    monkeypatch.setitem(run.FITTERS, "ball-ball", lambda k, p, o: fit_ballball(
+        k, p, replace(o, progress=_ClockJump(clock, inner=o.progress, after=20))))
+    res = runner.invoke(app, ["fit", "ball-ball", str(EXAMPLE), "--R", str(R), "--bootstrap", "100",
+                              "--out", str(tmp_path / "o")])
+    assert res.exit_code == 0, res.output
+    said = " ".join(res.output.split())
+    assert "bootstrap: 20 of 100 resamples" in said and "time bound" in said
+    assert json.loads((tmp_path / "o" / "fit.json").read_text())["bootstrap"]["requested"] == 100
 
 
 def test_the_stages_are_announced_for_the_progress_bar():

@@ -66,6 +66,7 @@ class Code(str, Enum):
     RESULT = "implausible-result"  # a fitted quantity known from elsewhere (g) comes out far from what it is
     SECOND_MINIMUM = "second-minimum"  # another set of parameters, far from the estimate, fits almost as well
     SERIES = "series-disagree"  # two series of one experiment do not share the parameters they should
+    TIME_BOUND = "time-bound"  # the time bound stopped a check or the bootstrap: the estimate stands, that part not
 
 
 def warn(summary: dict[str, Any], code: Code, message: str) -> None:

@@ -42,8 +42,9 @@ def fit_lines(s: dict[str, Any], warnings: bool = True) -> list[str]:
     lines = [f"method: {m}" for m in dict.fromkeys(f["method"] for f in s["fits"])]
     if s.get("bootstrap"):
         b = s["bootstrap"]
-        lines.append(f"bootstrap: {b['resamples']} resamples ({b['kind']}), seed {b['seed']}, {b['failed']} failed: "
-                     f"{b['note']}")
+        ran = (f"{b['resamples']} of {b['requested']} resamples" if b.get("requested") is not None
+               else f"{b['resamples']} resamples")
+        lines.append(f"bootstrap: {ran} ({b['kind']}), seed {b['seed']}, {b['failed']} failed: {b['note']}")
     if s.get("noise") and "chosen_by" in s["noise"]:
         lines.append(f"noise model: {s['noise']['model']} (chosen by {s['noise']['chosen_by']})")
     lines += _verdict_lines(s)

@@ -260,7 +260,12 @@ class _Problem:
 
 
 def _null_space(J: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
-    _, s, Vt = np.linalg.svd(J, full_matrices=True)
+    """The singular values of the m×p Jacobian ``J`` (padded with zeros to p), its right singular vectors as
+    columns (all p of them: the null directions are the last) and its numerical rank. Memory and time linear in
+    m: for m ≥ p the thin SVD (U is m×p, never m×m, which took 4 GB for 4000 ball-ball shots and killed the fit
+    of 10 000); its V is the same p×p matrix as the full SVD's."""
+    m, p = J.shape
+    _, s, Vt = np.linalg.svd(J, full_matrices=m < p)  # m < p: a short J, V must still be p×p
     s_full = np.zeros(J.shape[1])
     s_full[: s.size] = s
     rank = int(np.sum(s_full > RANK_RTOL * s_full[0])) if s_full[0] > 0 else 0

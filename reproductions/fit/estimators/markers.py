@@ -137,16 +137,25 @@ class MarkerFit:
     rival: tuple[float, float, float] | None = None
 
 
+CHUNK = 2**16  # (f, e) pairs × markers evaluated at once: 0.5 MB per array, ~50 MB in all, whatever the markers
+
+
 def _total(parts: Sequence[Part], f: np.ndarray, e: np.ndarray, model: Model, floor: float) -> np.ndarray:
-    """−2 ln L at each (f, e) pair: one batched call over all the markers of all parts."""
+    """−2 ln L at each (f, e) pair: batched calls over all the markers of all parts, as many pairs at a time as keep
+    pairs × markers within ``CHUNK`` (a grid of 625 pairs × 10 000 markers once held 4.5 GB of intermediates; each
+    pair's value is computed alone, so the chunks change no bit of it)."""
     psi = np.concatenate([p.psi for p in parts])
-    a = angles(psi[None, :], np.ravel(f)[:, None], np.ravel(e)[:, None], model)
-    out = np.zeros(np.size(f))
-    start = 0
-    for p in parts:
-        stop = start + p.psi.size
-        out += m2lnl(p.obs[None, :] - a[p.key][:, start:stop], floor)
-        start = stop
+    fr, er = np.ravel(f), np.ravel(e)
+    out = np.zeros(fr.size)
+    step = max(1, CHUNK // max(psi.size, 1))
+    for lo in range(0, fr.size, step):
+        hi = min(lo + step, fr.size)
+        a = angles(psi[None, :], fr[lo:hi, None], er[lo:hi, None], model)
+        start = 0
+        for p in parts:
+            stop = start + p.psi.size
+            out[lo:hi] += m2lnl(p.obs[None, :] - a[p.key][:, start:stop], floor)
+            start = stop
     return out.reshape(np.shape(f))
 
 

@@ -44,7 +44,8 @@ class FitOptions:
     seed: int = 0
     progress: Callable[[int], None] | None = None  # called after each bootstrap resample; where it also has a
     # method stage(name: str, total: int), a fit of several stages (ball-ball) announces each through it
-    max_seconds: float = 120.0  # wall-clock bound of one fit, its refits included (ball-ball): past it, an error
+    max_seconds: float = 120.0  # wall-clock bound of one fit, its refits included (ball-ball): past it before the
+    # estimate, an error; after it, the estimate with a time-bound warning (what was not done)
 
 
 @dataclass(frozen=True)
