@@ -9,8 +9,8 @@ from typing import Annotated
 import typer
 
 from cli.app import app
-from cli.common import _fail, _known_models, _out_folder, _print_grouped, err_console, out_console
-from reproductions.errors import ComputationError, InputError
+from cli.common import _fail, _known_models, _out_folder, _print_grouped, _write_report, err_console, out_console
+from reproductions.errors import InputError
 
 
 def _micro(us: float) -> str:
@@ -58,13 +58,7 @@ def bench(
             bar.update(task, advance=1, description=what)
 
         rep = bench_mod.run(names, quick=quick, progress=step)
-    try:
-        written = bench_mod.write(rep, out)
-    except InputError as err:
-        _fail(err)
-    except OSError as err:  # the environment (a full disk): exit status 1, the earlier benchmark whole
-        _fail(ComputationError(f"--out {out}", f"cannot write the benchmark ({err.strerror or err}); the earlier "
-                                               "one is as it was"))
+    written = _write_report(bench_mod.write, rep, out, "benchmark")
     groups = []
     for mod in rep["models"]:
         wrong = [v for v in mod["pareto"] if v["faster_and_as_accurate"]]

@@ -186,3 +186,15 @@ def _print_grouped(title: str, headers: tuple[str, ...], groups: list[tuple[str,
                 for ln in textwrap.wrap(note, max(20, out_console.width - len(pad)), break_long_words=False,
                                         break_on_hyphens=False):
                     out_console.print(Text(pad + ln), highlight=False, soft_wrap=True)
+
+
+def _write_report(write: Callable[[dict, Path], Any], rep: dict, out: Path, what: str) -> Any:
+    """``write(rep, out)`` for ``bench`` and ``stress``: bad input exits 2; the environment (a full disk) exits 1
+    saying that the earlier ``what`` is as it was (it is replaced only whole)."""
+    try:
+        return write(rep, out)
+    except InputError as err:
+        _fail(err)
+    except OSError as err:
+        _fail(ComputationError(f"--out {out}", f"cannot write the {what} ({err.strerror or err}); the earlier one is "
+                                               "as it was"))

@@ -8,8 +8,8 @@ from typing import Annotated
 import typer
 
 from cli.app import app
-from cli.common import _count, _fail, _known_models, _out_folder, _print_grouped, err_console
-from reproductions.errors import ComputationError, InputError
+from cli.common import _count, _fail, _known_models, _out_folder, _print_grouped, _write_report, err_console
+from reproductions.errors import InputError
 
 
 @app.command()
@@ -58,13 +58,7 @@ def stress(
 
         rep = stress_mod.run(names, scenes=scenes, ode_scenes=ode_scenes, seed=seed, progress=step,
                              referee_scenes=referee_scenes)
-    try:
-        written = stress_mod.write(rep, out)
-    except InputError as err:
-        _fail(err)
-    except OSError as err:  # the environment (a full disk): exit status 1, the earlier report whole
-        _fail(ComputationError(f"--out {out}", f"cannot write the stress report ({err.strerror or err}); the "
-                                               "earlier one is as it was"))
+    written = _write_report(stress_mod.write, rep, out, "stress report")
     groups = []
     for mod in rep["models"]:
         rows = []

@@ -25,13 +25,7 @@ def config_dir() -> Path:
     env = os.environ.get(ENV)
     if env:
         return _env_folder(env)
-    try:
-        shipped = resources.files("reproductions.configs")
-    except ModuleNotFoundError:
-        shipped = None
-    if isinstance(shipped, Path) and shipped.is_dir():
-        return shipped
-    return Path(__file__).resolve().parent.parent / "configs"
+    return _package_folder("reproductions.configs", "configs")
 
 
 def examples_dir() -> Path:
@@ -39,13 +33,19 @@ def examples_dir() -> Path:
     ``reproductions.examples`` found by importlib.resources (the repository's ``examples/`` folder, which the wheel
     ships and the editable install maps, pyproject.toml); else, in a checkout that was never installed (or whose
     editable install predates the mapping), the ``examples/`` folder beside this package."""
+    return _package_folder("reproductions.examples", "examples")
+
+
+def _package_folder(package: str, folder: str) -> Path:
+    """The folder of the data package ``package`` found by importlib.resources, else the repository's ``folder``
+    beside this package (a checkout never installed)."""
     try:
-        shipped = resources.files("reproductions.examples")
+        shipped = resources.files(package)
     except ModuleNotFoundError:
         shipped = None
     if isinstance(shipped, Path) and shipped.is_dir():
         return shipped
-    return Path(__file__).resolve().parent.parent / "examples"
+    return Path(__file__).resolve().parent.parent / folder
 
 
 def example_files() -> list[Path]:
