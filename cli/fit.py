@@ -96,13 +96,22 @@ def _fit_options() -> dict[str, tuple[Any, Any]]:
             help="read V0,V1 as signed velocities (V1 ≤ 0, the default) or as unsigned speeds")], None),
         "g": (Annotated[float, typer.Option("--g", parser=_fit_option("g"),
                                             help="gravity (m/s²)")], 9.80665),
-        "M": (Annotated[float | None, typer.Option("--M", parser=_fit_option("M"),
-                                                   help="striking mass (kg), if not a column")], None),
-        "Mp": (Annotated[float | None, typer.Option("--Mp", parser=_fit_option("Mp"),
-                                                    help="struck mass (kg), if not a column")], None),
-        "R": (Annotated[float, typer.Option("--R", parser=_fit_option("R"), help="ball radius (m)")], 0.0305),
+        "M": (Annotated[float | None, typer.Option(
+            "--M", parser=_fit_option("M"), help="striking mass: pendulum, if not a column; ball-ball, the cue "
+                                                 "ball's (with --Mp; default equal balls). kg, or with a unit: 170g, "
+                                                 "6oz")], None),
+        "Mp": (Annotated[float | None, typer.Option(
+            "--Mp", parser=_fit_option("Mp"), help="struck mass (the object ball's in ball-ball): kg, or with a "
+                                                   "unit")], None),
+        "R": (Annotated[float, typer.Option("--R", parser=_fit_option("R"),
+                                            help="ball radius (the cue ball's in ball-ball): m, or with a unit: "
+                                                 "28.575mm")], 0.0305),
+        "Rp": (Annotated[float | None, typer.Option("--Rp", parser=_fit_option("Rp"),
+                                                    help="the object ball's radius (default the cue ball's)")], None),
         "k": (Annotated[float, typer.Option("--k", parser=_fit_option("k"),
                                             help="MR²/I of the ball (2.5: homogeneous sphere)")], 2.5),
+        "kp": (Annotated[float | None, typer.Option("--kp", parser=_fit_option("kp"),
+                                                    help="MR²/I of the object ball (default the cue ball's)")], None),
         "h0": (Annotated[float | None, typer.Option("--h0", parser=_fit_option("h0"),
                                                     help="drop height (m), released at rest: then g is fitted too")],
                None),

@@ -658,8 +658,11 @@ def _whole(name: str, value: Any, lo: int, hi: int, what: str) -> int:
 def _fit_option(name: str, value: Any) -> Any:
     """One option of ``fit``, checked by ``fit.options.check`` as ``resal fit`` checks it (its Python name; None
     where the CLI's default is none): a choice is a string, a number an int or a float (numpy's too)."""
-    if value is None and name in ("sigma", "sigma_in", "speeds", "M", "Mp", "h0", "sigma_speed", "sigma_dir"):
+    if value is None and name in ("sigma", "sigma_in", "speeds", "M", "Mp", "Rp", "kp", "h0", "sigma_speed",
+                                  "sigma_dir"):
         return None
+    if name in fit_options.UNITS and isinstance(value, str):  # a mass or a radius with its unit: "170g"
+        return fit_options.check(name, value, lambda t: f"{name}={t!r}")
     if name == "bootstrap":
         return _whole(name, value, 0, MAX_RESAMPLES, "a number of resamples")
     if name in fit_options.CHOICES:

@@ -117,7 +117,8 @@ def test_the_batched_fit_is_least_squares_fits_and_the_report_says_which_shots_c
         assert one.point == pytest.approx(fit.point, abs=1e-8)  # the optimiser stops within 1e-9
         # the same weighted problem handed to least_squares_fit from a distant start: the same optimum and report
         w = 1 / np.repeat([fit.sigma_speed, fit.sigma_dir] * 2, 14)
-        shots = fb._Shots(*(a[None] for a in fb._columns(*cols.values(), "relative")), R, K, 0.17, "relative")
+        shots = fb._Shots(*(a[None] for a in fb._columns(*cols.values(), "relative")), {"R": R, "k": K, "M": 0.17},
+                           "relative")
         res, jac = shots.functions(0, w)
         ref = fitting.least_squares_fit(res, (0.3, 0.5), fb.NAMES, fb.BOUNDS, jac=jac)
         assert ref.point == pytest.approx(fit.point, abs=2e-8)

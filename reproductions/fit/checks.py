@@ -67,6 +67,7 @@ class Code(str, Enum):
     SECOND_MINIMUM = "second-minimum"  # another set of parameters, far from the estimate, fits almost as well
     SERIES = "series-disagree"  # two series of one experiment do not share the parameters they should
     TIME_BOUND = "time-bound"  # the time bound stopped a check or the bootstrap: the estimate stands, that part not
+    BALLS = "unequal-balls"  # balls taken equal, and the data fit far better with a mass ratio other than 1
 
 
 def warn(summary: dict[str, Any], code: Code, message: str) -> None:
@@ -332,6 +333,7 @@ class Reading:
     how: str  # the option or header that selects it
     misfit: float
     result: str = ""  # what the fit gives when the data are read so, for the message
+    code: Code = Code.CONVENTION  # what the warning is about, when this reading is the best
 
 
 CONVENTION_MARGIN = 10.0  # −2 log L lower by this much (a likelihood ratio of e⁵ ≈ 150) is "far better"
@@ -342,7 +344,7 @@ def better_reading(summary: dict[str, Any], as_read: float, others: Sequence[Rea
     best = min(others, key=lambda o: o.misfit, default=None)
     if best is None or not (as_read - best.misfit > CONVENTION_MARGIN):
         return None
-    warn(summary, Code.CONVENTION, f"the data fit far better read as {best.name} (−2 log-likelihood "
-                                   f"{best.misfit:.4g} against {as_read:.4g} as read"
-                                   f"{'; read so, ' + best.result if best.result else ''}): if so, {best.how}")
+    warn(summary, best.code, f"the data fit far better read as {best.name} (−2 log-likelihood "
+                             f"{best.misfit:.4g} against {as_read:.4g} as read"
+                             f"{'; read so, ' + best.result if best.result else ''}): if so, {best.how}")
     return best

@@ -36,10 +36,12 @@ def _ci(ci: list | None) -> str:
 
 
 def fit_lines(s: dict[str, Any], warnings: bool = True) -> list[str]:
-    """What a fit says besides its estimates, a sentence per line: method, bootstrap, noise model, speed dependence,
-    goodness of fit, the paper's and today's values beside it, identifiability, warnings (unless the terminal
-    prints them on stderr), columns read in SI."""
+    """What a fit says besides its estimates, a sentence per line: method, the balls taken (ball-ball), bootstrap,
+    noise model, speed dependence, goodness of fit, the paper's and today's values beside it, identifiability,
+    warnings (unless the terminal prints them on stderr), columns read in SI."""
     lines = [f"method: {m}" for m in dict.fromkeys(f["method"] for f in s["fits"])]
+    if s.get("balls"):
+        lines.append(f"balls: {s['balls']['text']}")
     if s.get("bootstrap"):
         b = s["bootstrap"]
         ran = (f"{b['resamples']} of {b['requested']} resamples" if b.get("requested") is not None

@@ -65,8 +65,9 @@ from ...errors import ComputationError, InputError
 from ...mechanics import cloth, impact, spheres
 from .lsq import FitResult, analyse, least_squares_fit
 
-__all__ = ["QUANTITIES", "BallBallFit", "OverBudget", "ShotPrediction", "ShotResiduals", "WeightedRows", "fit_columns",
-           "fit_many", "fit_shots", "predict_shots", "shot_residuals", "synthetic_shots", "weighted_rows"]
+__all__ = ["QUANTITIES", "BallBallFit", "OverBudget", "ShotPrediction", "ShotResiduals", "WeightedRows", "ball_tilt",
+           "fit_columns", "fit_many", "fit_shots", "predict_shots", "shot_residuals", "synthetic_shots",
+           "weighted_rows"]
 
 NAMES = ("f_bb", "e")
 BOUNDS = ((0.0, 0.0), (1.0, 1.0))
@@ -107,12 +108,21 @@ def _wrap(a: np.ndarray) -> np.ndarray:
     return np.pi - np.mod(np.pi - a, 2 * np.pi)
 
 
-def predict_shots(v: ArrayLike, phi: ArrayLike, *, f_bb: ArrayLike, e: ArrayLike, R: float, k: float = 2.5,
-                  M: float = 0.17, method: str = "exact") -> ShotPrediction:
+def predict_shots(v: ArrayLike, phi: ArrayLike, *, f_bb: ArrayLike, e: ArrayLike, R: ArrayLike, k: ArrayLike = 2.5,
+                  M: ArrayLike = 0.17, Rp: ArrayLike | None = None, kp: ArrayLike | None = None,
+                  Mp: ArrayLike | None = None, method: str = "exact") -> ShotPrediction:
     """Post-slip speeds and directions of both balls for cue-ball speeds v (m/s, natural roll) and cut angles φ
-    (rad); f_bb and e broadcast with them. §VI n°13 impact (``spheres.two_spheres``, ``method`` its path), then
-    §II n°7 slide to rolling (``cloth.slide``); the cloth's friction drops out of the result (module docstring)."""
-    v, phi, f_bb, e = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (v, phi, f_bb, e)))
+    (rad); f_bb, e and the balls broadcast with them. The cue ball: mass M, radius R, k = MR²/I; the object ball:
+    Mp, Rp, kp, each the cue ball's when None (equal balls). §VI n°13 impact (``spheres.two_spheres``, ``method``
+    its path), then §II n°7 slide to rolling (``cloth.slide``, each ball with its own R and k); the cloth's friction
+    drops out of the result (module docstring). Only M/M′ and, where they differ, R/R′ matter.
+
+    Departure from §VI where the radii differ: the line of centres of two balls resting on the cloth then tilts by
+    asin((R − R′)/(R + R′)); §VI (and this prediction) takes it horizontal, the cloth holding both balls down
+    (``ball_tilt`` gives the angle neglected)."""
+    Rp, kp, Mp = (R if Rp is None else Rp), (k if kp is None else kp), (M if Mp is None else Mp)
+    v, phi, f_bb, e, M, Mp, R, Rp, k, kp = np.broadcast_arrays(
+        *(np.asarray(a, dtype=float) for a in (v, phi, f_bb, e, M, Mp, R, Rp, k, kp)))
     if np.any(v <= 0) or np.any(np.abs(phi) >= np.pi / 2):
         raise InputError("predict_shots", "needs v > 0 and |φ| < π/2 (the cue ball must approach the object ball)")
     vx, vy = v * np.cos(phi), -v * np.sin(phi)  # impact frame: the line of centres at +φ from the velocity
@@ -121,17 +131,23 @@ def predict_shots(v: ArrayLike, phi: ArrayLike, *, f_bb: ArrayLike, e: ArrayLike
     w0 = np.stack([-vy / R, vx / R, zero], axis=-1)  # natural roll: v_x − R ω_y = 0, v_y + R ω_x = 0 (§II eq. 1)
     rest = np.zeros_like(v0)
     eps = impact.eps_from_newton(e)
-    imp = spheres.two_spheres(M, M, R, R, k, k, v0, w0, rest, rest, f=f_bb, eps=eps, epsp=eps, on_cloth=True,
+    imp = spheres.two_spheres(M, Mp, R, Rp, k, kp, v0, w0, rest, rest, f=f_bb, eps=eps, epsp=eps, on_cloth=True,
                               method=method)
     out = []
-    for vel, spin in ((imp.v1, imp.w1), (imp.v1p, imp.w1p)):
+    for vel, spin, r, kk in ((imp.v1, imp.w1, R, k), (imp.v1p, imp.w1p, Rp, kp)):
         # f = g = 1: the rolling velocity does not depend on them
-        roll = cloth.slide(vel[..., 0], vel[..., 1], spin[..., 0], spin[..., 1], R=R, k=k, f=1.0, g=1.0)
+        roll = cloth.slide(vel[..., 0], vel[..., 1], spin[..., 0], spin[..., 1], R=r, k=kk, f=1.0, g=1.0)
         out.append((np.hypot(roll.vx_roll, roll.vy_roll), _wrap(phi + np.arctan2(roll.vy_roll, roll.vx_roll))))
     (cs, cd), (os_, od) = out
     normal_e = (imp.v1p[..., 0] - imp.v1[..., 0]) / vx
     return ShotPrediction(cs, cd, os_, od, _lab(imp.v1, phi), _lab(imp.w1, phi), _lab(imp.v1p, phi),
                           _lab(imp.w1p, phi), normal_e, imp.regime, imp.converged)
+
+
+def ball_tilt(R: float, Rp: float) -> float:
+    """The angle (rad) by which the line of centres of two balls resting on the cloth rises from the cue ball
+    (radius R) to the object ball (R′): asin((R′ − R)/(R + R′)); 0 for equal balls, which §VI treats."""
+    return math.asin((Rp - R) / (R + Rp))
 
 
 @dataclass(frozen=True)
@@ -160,11 +176,13 @@ def _raw(pred: ShotPrediction, obs: np.ndarray, speed_noise: SpeedNoise) -> np.n
 
 def shot_residuals(theta: tuple[float, float], v: ArrayLike, phi: ArrayLike, cue_speed: ArrayLike,
                    cue_dir: ArrayLike, obj_speed: ArrayLike, obj_dir: ArrayLike, *, R: float, k: float = 2.5,
-                   M: float = 0.17, sigma_speed: float | None = None, sigma_dir: float | None = None,
+                   M: float = 0.17, Rp: float | None = None, kp: float | None = None, Mp: float | None = None,
+                   sigma_speed: float | None = None, sigma_dir: float | None = None,
                    speed_noise: SpeedNoise = "relative") -> ShotResiduals:
-    """Per-shot prediction errors at θ = (f_bb, e), e.g. ``fit.point`` of ``fit_shots``."""
+    """Per-shot prediction errors at θ = (f_bb, e), e.g. ``fit.point`` of ``fit_shots``; the balls as
+    ``predict_shots`` takes them."""
     v, phi, obs = _columns(v, phi, cue_speed, cue_dir, obj_speed, obj_dir, speed_noise)
-    pred = predict_shots(v, phi, f_bb=theta[0], e=theta[1], R=R, k=k, M=M)
+    pred = predict_shots(v, phi, f_bb=theta[0], e=theta[1], R=R, k=k, M=M, Rp=Rp, kp=kp, Mp=Mp)
     d = np.stack([pred.cue_speed, pred.cue_dir, pred.obj_speed, pred.obj_dir]) - obs
     d[[1, 3]] = _wrap(d[[1, 3]])
     scaled = _raw(pred, obs, speed_noise)
@@ -197,6 +215,17 @@ def _columns(v: ArrayLike, phi: ArrayLike, cue_speed: ArrayLike, cue_dir: ArrayL
     return cols[0], cols[1], obs
 
 
+def _ball_arrays(balls: Mapping[str, ArrayLike], D: int) -> dict[str, np.ndarray]:
+    """The balls of D data sets, each quantity one value per data set (the object ball's the cue ball's where
+    None)."""
+    same = {"Rp": "R", "kp": "k", "Mp": "M"}
+    out = {}
+    for key in ("R", "k", "M", "Rp", "kp", "Mp"):
+        value = balls[key] if balls.get(key) is not None else balls[same[key]]
+        out[key] = np.broadcast_to(np.asarray(value, dtype=float), (D,))
+    return out
+
+
 class OverBudget(ComputationError):
     """The fit ran past its wall-clock bound (``deadline``); whoever called says what was being fitted."""
 
@@ -225,10 +254,11 @@ class _Shots:
     Outcomes not measured (NaN) give residual rows of 0 (and Jacobian rows of 0): they weigh nothing.
     Past ``deadline`` (``time.monotonic``) every evaluation raises ``OverBudget``."""
 
-    def __init__(self, v: np.ndarray, phi: np.ndarray, obs: np.ndarray, R: float, k: float, M: float,
+    def __init__(self, v: np.ndarray, phi: np.ndarray, obs: np.ndarray, balls: Mapping[str, ArrayLike],
                  speed_noise: SpeedNoise, deadline: float | None = None) -> None:
-        self.v, self.phi, self.obs, self.R, self.k, self.M, self.noise = v, phi, obs, R, k, M, speed_noise
+        self.v, self.phi, self.obs, self.noise = v, phi, obs, speed_noise
         self.D, self.n = v.shape
+        self.balls = _ball_arrays(balls, self.D)
         self.mask = np.isfinite(obs).reshape(self.D, 4 * self.n)  # rows: cue speed, cue dir, obj speed, obj dir
         self.deadline = deadline
         self.memo: list[dict[bytes, tuple[np.ndarray, np.ndarray, np.ndarray]]] = [{} for _ in range(self.D)]
@@ -251,7 +281,7 @@ class _Shots:
         shape = (m, K, n)
         pred = predict_shots(np.broadcast_to(self.v[idx][:, None], shape), np.broadcast_to(self.phi[idx][:, None],
                              shape), f_bb=np.broadcast_to(P[..., 0:1], shape), e=np.broadcast_to(P[..., 1:2], shape),
-                             R=self.R, k=self.k, M=self.M)
+                             **{b: a[idx][:, None, None] for b, a in self.balls.items()})
         obs = np.broadcast_to(self.obs[idx][:, None], (m, K, 4, n)).transpose(2, 0, 1, 3)  # (4, m, K, n)
         r = _raw(pred, obs, self.noise).transpose(1, 2, 0, 3).reshape(m, K, 4 * n)
         return np.where(self.mask[idx][:, None, :], r, 0.0), pred
@@ -432,7 +462,8 @@ def fit_shots(v: ArrayLike, phi: ArrayLike, cue_speed: ArrayLike, cue_dir: Array
     (rad) given (each kind measured needs its σ): residuals over σ, normal 95 % intervals. Both omitted: σ per
     kind estimated from the residuals (leverage-corrected), refitting with those weights until their ratio
     settles; the report then estimates the common scale from the weighted residuals (Student's t, m − 2 degrees
-    of freedom). ``kw``: those of ``fit_many`` (``profile``, ``deadline``, ``canonical``)."""
+    of freedom). ``kw``: those of ``fit_many`` (``Rp``, ``kp``, ``Mp``, ``profile``, ``deadline``,
+    ``canonical``)."""
     cols = {"v": v, "phi": phi, "cue_speed": cue_speed, "cue_dir": cue_dir, "obj_speed": obj_speed,
             "obj_dir": obj_dir}
     return fit_many([cols], R=R, k=k, M=M, sigma_speed=sigma_speed, sigma_dir=sigma_dir, speed_noise=speed_noise,
@@ -464,12 +495,14 @@ def _given_sigmas(sigma_speed: float | None, sigma_dir: float | None, counts: np
     return np.array(out)
 
 
-def fit_many(datasets: Sequence[Mapping[str, ArrayLike]], *, R: float, k: float = 2.5, M: float = 0.17,
+def fit_many(datasets: Sequence[Mapping[str, ArrayLike]], *, R: ArrayLike, k: ArrayLike = 2.5,
+             M: ArrayLike = 0.17, Rp: ArrayLike | None = None, kp: ArrayLike | None = None, Mp: ArrayLike | None = None,
              sigma_speed: float | None = None, sigma_dir: float | None = None, speed_noise: SpeedNoise = "relative",
              x0: tuple[float, float] = (0.05, 0.9), profile: bool = False, canonical: bool = True,
              deadline: float | None = None) -> list[BallBallFit]:
     """``fit_shots`` on several data sets of equal size (columns as ``synthetic_shots`` returns), their predictions
-    computed together: the same result as one ``fit_shots`` per data set, much faster for many.
+    computed together: the same result as one ``fit_shots`` per data set, much faster for many. The balls as
+    ``predict_shots`` takes them, each a number or one per data set (a scan over the mass ratio is one call).
 
     ``profile``: also e's profile-likelihood interval (``BallBallFit.e_profile``). ``canonical=False``: a
     rank-deficient fit is reported where the optimiser stopped, not moved to the canonical point of its family
@@ -478,7 +511,7 @@ def fit_many(datasets: Sequence[Mapping[str, ArrayLike]], *, R: float, k: float 
     if not datasets:
         return []
     v, phi, obs = _parse(datasets, speed_noise)
-    shots = _Shots(v, phi, obs, R, k, M, speed_noise, deadline)
+    shots = _Shots(v, phi, obs, {"R": R, "k": k, "M": M, "Rp": Rp, "kp": kp, "Mp": Mp}, speed_noise, deadline)
     D, n = v.shape
     counts = _kind_counts(shots.mask, n)
     given_sig = _given_sigmas(sigma_speed, sigma_dir, counts)
@@ -775,33 +808,37 @@ class WeightedRows:
 
 
 def weighted_rows(cols: Mapping[str, ArrayLike], theta: Sequence[float], *, sigma_speed: float, sigma_dir: float,
-                  R: float, k: float = 2.5, M: float = 0.17, speed_noise: SpeedNoise = "relative") -> WeightedRows:
+                  R: float, k: float = 2.5, M: float = 0.17, Rp: float | None = None, kp: float | None = None,
+                  Mp: float | None = None, speed_noise: SpeedNoise = "relative") -> WeightedRows:
     """``WeightedRows`` of the data set ``cols`` (NaN: not measured) at θ = (f_bb, e) with these σ (a kind not
-    measured may have any)."""
+    measured may have any); the balls as ``predict_shots`` takes them."""
     v, phi, obs = _parse([cols], speed_noise)
-    shots = _Shots(v, phi, obs, R, k, M, speed_noise)
+    balls = {"R": R, "k": k, "M": M, "Rp": Rp, "kp": kp, "Mp": Mp}
+    shots = _Shots(v, phi, obs, balls, speed_noise)
     n = shots.n
     r, J, _ = shots.eval(np.asarray(theta, dtype=float)[None], np.array([0]))
     keep = shots.mask[0]
     sig = _row_sigma(np.array([[sigma_speed, sigma_dir]], dtype=float), n)[0]
     quantity, shot = np.divmod(np.arange(4 * n), n)
-    pred = predict_shots(v[0], phi[0], f_bb=theta[0], e=theta[1], R=R, k=k, M=M)
+    pred = predict_shots(v[0], phi[0], f_bb=theta[0], e=theta[1], **balls)
     p = np.stack([pred.cue_speed, pred.cue_dir, pred.obj_speed, pred.obj_dir]).reshape(-1)
     return WeightedRows(quantity[keep], shot[keep], (r[0] / sig)[keep], (J[0] / sig[:, None])[keep], sig[keep],
                         obs[0].reshape(-1)[keep], p[keep], speed_noise)
 
 
 def synthetic_shots(rng: np.random.Generator, n: int, *, f_bb: float = 0.06, e: float = 0.93, R: float = 0.02855,
-                    k: float = 2.5, v_range: tuple[float, float] = (0.5, 3.0),
+                    k: float = 2.5, M: float = 0.17, Rp: float | None = None, kp: float | None = None,
+                    Mp: float | None = None, v_range: tuple[float, float] = (0.5, 3.0),
                     phi_range_deg: tuple[float, float] = (10.0, 60.0), sigma_speed: float = 0.02,
                     sigma_dir: float = math.radians(0.5), speed_noise: SpeedNoise = "relative"
                     ) -> dict[str, np.ndarray]:
     """n synthetic shots: v uniform in ``v_range`` (m/s), φ uniform in ``phi_range_deg`` (degrees, stored in rad),
     outcomes predicted at (f_bb, e) with noise: speeds × exp(σ z) (relative) or + σ z (absolute, m/s), directions
-    + σ_dir z (rad). Columns: v, phi, cue_speed, cue_dir, obj_speed, obj_dir (SI)."""
+    + σ_dir z (rad); the balls as ``predict_shots`` takes them. Columns: v, phi, cue_speed, cue_dir, obj_speed,
+    obj_dir (SI)."""
     v = rng.uniform(*v_range, n)
     phi = np.radians(rng.uniform(*phi_range_deg, n))
-    p = predict_shots(v, phi, f_bb=f_bb, e=e, R=R, k=k)
+    p = predict_shots(v, phi, f_bb=f_bb, e=e, R=R, k=k, M=M, Rp=Rp, kp=kp, Mp=Mp)
     z = rng.standard_normal((4, n))
     if speed_noise == "relative":
         cs, os_ = p.cue_speed * np.exp(sigma_speed * z[0]), p.obj_speed * np.exp(sigma_speed * z[2])

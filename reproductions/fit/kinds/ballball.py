@@ -39,7 +39,15 @@ from ..checks import (
     plausible_columns,
     warn,
 )
-from ..estimators.shots import QUANTITIES, BallBallFit, OverBudget, fit_many, predict_shots, weighted_rows
+from ..estimators.shots import (
+    QUANTITIES,
+    BallBallFit,
+    OverBudget,
+    ball_tilt,
+    fit_many,
+    predict_shots,
+    weighted_rows,
+)
 from ..estimators.trials import bootstrap_many
 from .common import (
     BOOT_NOTE,
@@ -79,6 +87,12 @@ DIR_NOISE_LIMIT = math.radians(5.0)
 E_NOTE = ("95 % interval from the profile likelihood over f, with the bound e ≤ 1 (not a Wald interval cut at "
           "1): it covered {cov} of 2000 synthetic series of 14 shots each at e = 0.95, 0.98 and 0.995")
 E_COVERAGE = {"estimated": "95.5 %, 94.1 % and 96.7 %", "given": "95.9 %, 94.7 % and 96.7 %"}
+# Balls taken equal: the mass ratios M/M′ at which (f, e) are refitted to look for the signature of unequal balls
+# (bar-box cue balls are 6 oz against 5.5 oz, 9 % heavier; some are lighter); the best of them and its neighbours
+# place a parabola whose lowest point is fitted once more. The check is one more reading of the data, compared with
+# the conventions' by likelihood (``checks.better_reading``).
+MASS_RATIOS = (0.80, 0.86, 0.93, 1.075, 1.16, 1.25)
+TILT_WARN = math.radians(0.5)  # radii this unequal tilt the line of centres by more than this: said in a warning
 
 class _Stages:
     """The stage being worked on, announced through ``opts.progress.stage(name, total)`` where it has one."""
@@ -199,7 +213,8 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     v, phi = cols["v"], cols["phi"]
     sig_speed, sig_dir = _sigmas(s, cols, opts)
     given = sig_speed is not None or sig_dir is not None
-    kw: dict[str, Any] = {"R": opts.R, "k": opts.k, "deadline": deadline}
+    balls, assumed = _balls(opts)
+    kw: dict[str, Any] = {**balls, "deadline": deadline}
     stage("fit")
     fit = fit_many([cols], sigma_speed=sig_speed, sigma_dir=sig_dir, profile=True, **kw)[0]
     names = dict(zip(fit.names, ("f_bb", "e_bb"), strict=True))
@@ -209,6 +224,14 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     method = f"least squares on post-slip {measured}: §VI n°13 impact, then §II n°7 slide" + (
         "; σ given" if given else "; a noise level per kind of measurement, estimated (Student's t)")
     summary = base_summary(kind, path, n, columns_read(s, DIMS), opts)
+    summary["balls"] = _balls_summary(balls, assumed)
+    tilt = summary["balls"]["tilt_deg"]
+    if abs(math.radians(tilt)) > TILT_WARN:
+        share = abs(math.sin(math.radians(tilt)))
+        warn(summary, Code.ASSUMED, f"the radii differ (R′/R = {balls['Rp'] / balls['R']:.4g}): the line of centres "
+                                    f"of the balls on the cloth tilts by {abs(tilt):.2g}°, which the model (§VI: a "
+                                    "horizontal line of centres, both balls held on the cloth) neglects; the normal "
+                                    f"impulse's vertical share, {share:.2g}, is taken by neither ball's motion")
     for msg in plausible_columns(s, {"v": "ball-speed", "cue_speed": "ball-speed", "obj_speed": "ball-speed"}, DIMS):
         warn(summary, Code.UNIT, msg)
 
@@ -220,6 +243,7 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     try:
         others = _readings(s, cols)
         refits = fit_many([cols, *(r[2] for r in others)], canonical=False, **kw)
+        masses = _mass_ratio(cols, kw, fit) if "masses" in assumed else None
     except OverBudget:
         warn(summary, Code.TIME_BOUND, f"the time bound ({opts.max_seconds:g} s) stopped the check of other "
                                        "conventions of the columns (units, signs, angle references): not made; give "
@@ -227,10 +251,18 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     else:
         readings = [Reading(name, how, f.misfit() + jac, f"f = {f.point[0]:.3g}, e = {f.point[1]:.3g}")
                     for (name, how, _, jac), f in zip(others, refits[1:], strict=True)]
+        rows = [{"reading": r.name, "misfit": r.misfit, "f": f.point[0], "e": f.point[1]}
+                for r, f in zip(readings, refits[1:], strict=True)]
+        if masses is not None:
+            q, mfit = masses
+            readings.append(Reading(f"a cue ball {_heavier(q)} than the object ball (mass ratio M/M′ = {q:.3g}, "
+                                    "fitted; the fit takes equal balls)",
+                                    "give both balls' masses, --M and --Mp (as --M 6oz --Mp 5.5oz)", mfit.misfit(),
+                                    f"f = {mfit.point[0]:.3g}, e = {mfit.point[1]:.3g}", Code.BALLS))
+            rows.append({"reading": readings[-1].name, "misfit": mfit.misfit(), "f": mfit.point[0],
+                         "e": mfit.point[1], "mass_ratio": q})
         better_reading(summary, refits[0].misfit(), readings)
-        summary["conventions"] = {"as_read": refits[0].misfit(), "readings": [
-            {"reading": r.name, "misfit": r.misfit, "f": f.point[0], "e": f.point[1]}
-            for r, f in zip(readings, refits[1:], strict=True)],
+        summary["conventions"] = {"as_read": refits[0].misfit(), "readings": rows,
             "misfit": "−2 log-likelihood of the values as written, each kind's noise estimated: Σ n_k ln(RSS_k/n_k)"}
 
     boot, boot_failed, boot_stopped = None, 0, None
@@ -264,7 +296,7 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
             boot_failed = failed[0]
     fits = rows_from_fit(fit, "ball-ball", labels, method, boot)
     point = fit.point
-    pred = predict_shots(v, phi, f_bb=point[0], e=point[1], R=opts.R, k=opts.k)
+    pred = predict_shots(v, phi, f_bb=point[0], e=point[1], **balls)
     p = {"cue_speed": pred.cue_speed, "cue_dir": pred.cue_dir, "obj_speed": pred.obj_speed, "obj_dir": pred.obj_dir}
     err = {c: p[c] - cols[c] for c in OUTCOMES}
     for c in DIRS:
@@ -320,6 +352,80 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     return FitOutcome(summary, _figures(cols, p, err, phi), *_table(s, cols, p, err))
 
 
+def _balls(opts: FitOptions) -> tuple[dict[str, float], list[str]]:
+    """The balls (``predict_shots``' M, Mp, R, Rp, k, kp) and what was assumed of them: equal masses unless both
+    --M and --Mp are given (only their ratio matters), the object ball's radius and inertia the cue ball's unless
+    given."""
+    if (opts.M is None) != (opts.Mp is None):
+        given = "--M" if opts.M is not None else "--Mp"
+        mass = opts.M if opts.M is not None else opts.Mp
+        raise InputError(f"{given} ({mass:.4g} kg) alone", "give both balls' masses, "
+                         "--M (the cue ball) and --Mp (the object ball), or neither (equal balls): only their ratio "
+                         "enters the impact")
+    assumed = []
+    if opts.M is None:
+        assumed.append("masses")
+    if opts.Rp is None:
+        assumed.append("radii")
+    if opts.kp is None:
+        assumed.append("inertia")
+    M = 0.17 if opts.M is None else opts.M  # equal balls: any mass, only M/M′ = 1 enters
+    balls = {"M": M, "Mp": M if opts.Mp is None else opts.Mp, "R": opts.R, "Rp": opts.R if opts.Rp is None else opts.Rp,
+             "k": opts.k, "kp": opts.k if opts.kp is None else opts.kp}
+    return balls, assumed
+
+
+def _balls_summary(balls: dict[str, float], assumed: list[str]) -> dict[str, Any]:
+    """fit.json's ``balls``: what the prediction took, what of it was assumed, and a line for people."""
+    tilt = math.degrees(ball_tilt(balls["R"], balls["Rp"]))
+    said = {"masses": "equal masses (only M/M′ enters: give --M and --Mp if the balls differ)",
+            "radii": "the object ball's radius the cue ball's (--Rp)", "inertia": "the object ball's MR²/I the cue "
+            "ball's (--kp)"}
+    masses = ("M/M′ = 1 (equal, assumed)" if "masses" in assumed else
+              f"M = {balls['M'] * 1e3:.4g} g, M′ = {balls['Mp'] * 1e3:.4g} g (M/M′ = {balls['M'] / balls['Mp']:.4g})")
+    radii = (f"R = R′ = {balls['R'] * 1e3:.4g} mm" if balls["Rp"] == balls["R"] else
+             f"R = {balls['R'] * 1e3:.4g} mm, R′ = {balls['Rp'] * 1e3:.4g} mm (line of centres tilted {tilt:.2g}°, "
+             "neglected)")
+    inertia = (f"k = k′ = {balls['k']:g}" if balls["kp"] == balls["k"] else f"k = {balls['k']:g}, k′ = {balls['kp']:g}")
+    text = f"{masses}; {radii}; {inertia} (MR²/I)"
+    if assumed:
+        text += "; assumed: " + "; ".join(said[a] for a in assumed)
+    return {"M_kg": balls["M"] if "masses" not in assumed else None,
+            "Mp_kg": balls["Mp"] if "masses" not in assumed else None, "mass_ratio": balls["M"] / balls["Mp"],
+            "R_m": balls["R"], "Rp_m": balls["Rp"], "k": balls["k"], "kp": balls["kp"], "tilt_deg": tilt,
+            "assumed": assumed, "text": text}
+
+
+def _heavier(q: float) -> str:
+    """"9 % heavier" for a mass ratio q = 1.09, "8 % lighter" for 0.92."""
+    return f"{abs(q - 1) * 100:.2g} % {'heavier' if q > 1 else 'lighter'}"
+
+
+def _mass_ratio(cols: dict[str, np.ndarray], kw: dict[str, Any], equal: BallBallFit
+                ) -> tuple[float, BallBallFit] | None:
+    """The mass ratio M/M′ at which the shots fit best, and the fit there: (f, e) refitted at each of
+    ``MASS_RATIOS`` and 1, then at the lowest point of the parabola through the best and its neighbours (kept
+    inside the grid); the best of all evaluated. One batched fit per stage (``fit_many``), started from the equal
+    balls' estimate, with its noise levels held (``equal``): a σ re-estimated at a ratio far from the data's
+    oscillates for ten rounds; held, the misfit found is at least the one with σ profiled, so the improvement is,
+    if anything, understated."""
+    qs = np.array(sorted((1.0, *MASS_RATIOS)))
+    x0 = (float(equal.point[0]), float(equal.point[1]))
+    held = {"sigma_speed": _num(equal.sigma_speed), "sigma_dir": _num(equal.sigma_dir), "x0": x0}
+    if not all(v is None or v > 0 for v in (held["sigma_speed"], held["sigma_dir"])):
+        return None  # no scatter to weigh by (said by its own warning): no ratio to look for
+    fits = fit_many([cols] * qs.size, canonical=False, **held, **{**kw, "M": kw["Mp"] * qs})
+    m = np.array([f.misfit() for f in fits])
+    i = int(np.clip(np.argmin(m), 1, qs.size - 2))
+    x, y = qs[i - 1:i + 2], m[i - 1:i + 2]
+    a, b, _ = np.polyfit(x, y, 2)
+    q = float(np.clip(-b / (2 * a), qs[0], qs[-1])) if a > 0 else float(qs[np.argmin(m)])
+    extra = fit_many([cols], canonical=False, **held, **{**kw, "M": kw["Mp"] * q})[0]
+    cands = [*zip(qs.tolist(), fits, strict=True), (q, extra)]
+    best = min(cands, key=lambda c: c[1].misfit())
+    return float(best[0]), best[1]
+
+
 def _num(x: float) -> float | None:
     """A number for fit.json: None where not measured (JSON has no NaN)."""
     return float(x) if math.isfinite(x) else None
@@ -355,7 +461,7 @@ def _loo(summary: dict[str, Any], s: Series, cols: dict[str, np.ndarray], fit: B
         summary["leave_one_out"] = []
         return
     sig = [x if math.isfinite(x) else 1.0 for x in (fit.sigma_speed, fit.sigma_dir)]
-    rows = weighted_rows(cols, fit.point, sigma_speed=sig[0], sigma_dir=sig[1], R=opts.R, k=opts.k)
+    rows = weighted_rows(cols, fit.point, sigma_speed=sig[0], sigma_dir=sig[1], **_balls(opts)[0])
     # estimated per kind: each scale beyond the common one costs a degree of freedom; a given σ's ratio costs none
     n_kinds = int(fit.n_speed > 0) + int(fit.n_dir > 0)
     extra = 0 if given or summary["noise"]["model"] == "given" else n_kinds - 1

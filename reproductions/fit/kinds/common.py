@@ -32,10 +32,12 @@ class FitOptions:
     sigma_in: float | None = None  # rebound: σ of the impact (V0 or h0), in its column's unit; errors in both
     noise: Noise = Noise.AUTO
     speeds: str | None = None  # "signed" | "unsigned" | None (the header says)
-    M: float | None = None
+    M: float | None = None  # pendulum: the masses when not columns; ball-ball: the cue ball's (None: equal balls)
     Mp: float | None = None
     R: float = 0.0305
     k: float = 2.5
+    Rp: float | None = None  # ball-ball: the object ball's radius and MR²/I (None: the cue ball's)
+    kp: float | None = None
     g: float = G
     h0: float | None = None
     sigma_speed: float | None = None  # ball-ball: relative noise of the measured speeds
