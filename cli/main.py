@@ -57,6 +57,8 @@ def main() -> None:
     except OSError as exc:
         if exc.errno in (errno.ENOSPC, errno.EIO, errno.EDQUOT, errno.EFBIG):
             _last_words(f"cannot write ({exc.strerror}): standard output or a file could not take the output", 1)
+        if exc.errno == errno.ENOMEM:  # a thread or a mapping refused under a memory limit (where numpy loads)
+            _last_words(f"out of memory ({exc.strerror}; a limit on this process's memory? `ulimit -v`)", 1)
         _last_words(f"a failure of the environment: {exc.strerror or exc}", 1)
     except MemoryError:
         _last_words("out of memory (a limit on this process's memory? `ulimit -v`)", 1)

@@ -7,10 +7,11 @@ import math
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from .config import comma_problem, decode_text, read_input, shorten, underflows
+from .config import comma_problem, comma_readings, decode_text, read_input, shorten, underflows
 from .errors import InputError
 
 __all__ = ["MAX_IMPRINTS", "MAX_MARKERS", "MIN_IMPRINTS", "MIN_MARKERS", "UNITS", "Markers", "Series",
@@ -103,7 +104,7 @@ class Series(dict):
 
 def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = (), min_rows: int = 1,
                 positive: Sequence[str] = (), dims: dict[str, str] | None = None,
-                nonnegative: Sequence[str] = (), blank: Sequence[str] = ()) -> Series:
+                nonnegative: Sequence[str] = (), blank: Sequence[str] = (), labels: Sequence[str] = ()) -> Series:
     """A measurement series from a CSV file with a header; every bad row is reported as file:line. Lines that
     are empty or start with ``#`` are skipped (before the header too); a UTF-8 byte-order mark is accepted.
 
@@ -112,7 +113,8 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
     unit, read in SI). A unit unknown, or of another dimension, is refused at the header.
 
     In the columns named in ``blank`` an empty cell means "not measured" and is read as NaN (never 0); in the
-    others it is refused like any cell that is not a number."""
+    others it is refused like any cell that is not a number. The optional columns named in ``labels`` hold text
+    (a shot's id), kept as written, never read as numbers."""
     where = str(path)
     text = read_text(path)
     numbered = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.startswith("#")]
@@ -124,7 +126,9 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
         for sep, name in ((";", "semicolons"), ("\t", "tabs")):
             if sep in head:
                 raise InputError(f"{where}:{head_line}", f"the header is separated by {name}: expected commas "
-                                                         f"(columns {', '.join(columns)})")
+                                                         f"(as {','.join(p.strip() for p in head.split(sep))}), "
+                                                         "and in every row")
+    optional = [*optional, *labels]
     _no_empty_name(written, [*columns, *optional], f"{where}:{head_line}")
     header, units = _parse_header(written, [*columns, *optional], dims, f"{where}:{head_line}")
     missing = [c for c in columns if c not in header]
@@ -135,15 +139,21 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
     if unknown:
         raise InputError(f"{where}:{head_line}", f"unknown column(s) {', '.join(unknown)} "
                                                  f"(expected {', '.join([*columns, *optional])})")
-    data: dict[str, list[float]] = {h: [] for h in header}
+    data: dict[str, list[Any]] = {h: [] for h in header}
     for line_no, ln in numbered[1:]:
         cells = [c.strip() for c in next(csv.reader([ln]))]
+        if len(header) == 1 and len(cells) == 2 and comma_readings(",".join(cells)):  # 0,512: a decimal comma
+            raise InputError(f"{where}:{line_no}", f"column '{written[0]}': expected one number, got "
+                                                   f"'{shorten(','.join(cells))}': {comma_problem(','.join(cells))}")
         if len(cells) != len(header):
             trailing = " (the last one empty: a trailing comma?)" if len(cells) > len(header) and not cells[-1] else ""
             raise InputError(f"{where}:{line_no}", f"expected {len(header)} values, got {len(cells)}{trailing}")
         for j, (h, w, cell) in enumerate(zip(header, written, cells, strict=True)):
             col = f"column '{w}' (#{j + 1})" if len(header) > 1 else f"column '{w}'"
             shown = shorten(cell)  # a cell of a thousand digits is quoted by its start and its length
+            if h in labels:
+                data[h].append(cell)
+                continue
             if not cell and h in blank:
                 data[h].append(math.nan)
                 continue
@@ -259,10 +269,12 @@ def check_pendulum_trials(s: Series, M: np.ndarray, Mp: np.ndarray, sigma: float
                                       f"{allowed_v})")
 
 
-def check_imprints(x: np.ndarray, where: str, t: np.ndarray | None = None, lines: Sequence[int] | None = None) -> None:
+def check_imprints(x: np.ndarray, where: str, t: np.ndarray | None = None, lines: Sequence[int] | None = None,
+                   unit: str | None = None) -> None:
     """A ricochet series: ``MIN_IMPRINTS`` to ``MAX_IMPRINTS`` imprints, strictly increasing, in metres (spanning
     at most ``MAX_SPAN``), and with instants (seconds) that increase and give a launch of at most ``MAX_SPEED``.
-    ``lines`` (each imprint's line in the file) lets a bad imprint be named as file:line."""
+    ``lines`` (each imprint's line in the file) lets a bad imprint be named as file:line; ``unit``: the unit the
+    header gave x (None: metres), for the advice on a span too long."""
 
     def at(i: int) -> str:
         return f"{where}:{lines[i]}" if lines is not None else where
@@ -278,7 +290,7 @@ def check_imprints(x: np.ndarray, where: str, t: np.ndarray | None = None, lines
     span = float(x[-1] - x[0])
     if span > MAX_SPAN:
         raise InputError(where, f"the imprints span {span:g} m: expected positions in metres, a ricochet series "
-                                f"spanning at most {MAX_SPAN:g} m (millimetres? divide by 1000)")
+                                f"spanning at most {MAX_SPAN:g} m{_span_hint(span, unit)}")
     if t is None:
         return
     bad = np.nonzero(np.diff(t) <= 0)[0]
@@ -296,11 +308,34 @@ def check_imprints(x: np.ndarray, where: str, t: np.ndarray | None = None, lines
                                 f"{9.80665 * first / 2:.4g} m/s (more than {MAX_SPEED:g}): expected t in seconds")
 
 
+MIN_SPAN = 0.02  # m: a series shorter than this (a few imprints of a 61 mm ball) is no ricochet to measure
+
+
+def _span_hint(span: float, unit: str | None) -> str:
+    """'; in cm they would span 1.3 m: write the unit in the header (x_cm)': each smaller metric unit that puts a
+    span too long for metres (``span``, SI, as read in ``unit``) between ``MIN_SPAN`` and ``MAX_SPAN``; where two
+    do, both, and that positions alone cannot tell them apart (the fit scales with them). None fits: nothing (a
+    hint followed must lead to a plausible file)."""
+    have = UNITS["length"].get(unit or "m", 1.0)
+    written = span / have
+    fits = [(u, written * factor) for u, factor in UNITS["length"].items()
+            if u in ("cm", "mm") and factor < have and MIN_SPAN <= written * factor <= MAX_SPAN]
+    if not fits:
+        return ""
+    spans = ", ".join(f"in {unit_label(u)} they would span {m:.3g} m" for u, m in fits)
+    headers = " or ".join(f"x_{u}" for u, _ in fits)
+    if len(fits) == 1:
+        return f"; {spans}: write the unit in the header ({headers})"
+    return (f"; {spans}: write the unit you measured in, in the header ({headers}); the positions alone cannot tell "
+            "which (the fit's f depends on it)")
+
+
 def read_imprints(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
-    """A ricochet series (column x in m, optional t in s), both measured from the first imprint."""
-    d = read_series(path, ("x",), optional=("t",), min_rows=1)
+    """A ricochet series (column x in m, optional t in s; a header may give their units, x_mm, t_ms), both
+    measured from the first imprint."""
+    d = read_series(path, ("x",), optional=("t",), min_rows=1, dims={"x": "length", "t": "time"})
     x, t = d["x"], d.get("t")
-    check_imprints(x, str(path), t, d.lines)
+    check_imprints(x, str(path), t, d.lines, d.units.get("x"))
     return x - x[0], None if t is None else t - t[0]
 
 

@@ -35,6 +35,12 @@ def scale(j: int, k: float) -> Change:
     return lambda t: (t[0], [[*r[:j], repr(float(r[j]) * k), *r[j + 1:]] for r in t[1]])
 
 
+def rows_scaled(rows: tuple[int, ...], j: int, k: float) -> Change:
+    """Column j times k on some rows only (0: the first data row): those rows in another unit."""
+    return lambda t: (t[0], [[*r[:j], repr(float(r[j]) * k), *r[j + 1:]] if i in rows else r
+                             for i, r in enumerate(t[1])])
+
+
 def shift(row: int, j: int, by: float) -> Change:
     """One cell mistyped: row ``row`` (0: the first data row), column j, plus ``by``."""
     def f(t: Table) -> Table:

@@ -144,3 +144,15 @@ def test_the_api_takes_the_balls_with_units(tmp_path):
     path = _shots(tmp_path / "shots.csv", 1.09)
     fit = api.fit("ball-ball", path, M="6oz", Mp="5.5oz", bootstrap=0)
     assert "unequal-balls" not in [w.code for w in fit.warnings]
+
+
+def test_a_column_of_shot_labels_is_kept_not_refused(tmp_path):
+    """An id column (text) as a spreadsheet export has it: read, carried to each shot's record, and the fit the
+    same as without it."""
+    path = _shots(tmp_path / "plain.csv", 1.0)
+    lines = path.read_text().splitlines()
+    labelled = tmp_path / "labelled.csv"
+    labelled.write_text("\n".join([f"shot,{lines[0]}", *(f"A{i},{ln}" for i, ln in enumerate(lines[1:], 1))]) + "\n")
+    s, plain = _fit(labelled), _fit(path)
+    assert [p["shot"] for p in s["per_shot"]] == [f"A{i}" for i in range(1, 15)]
+    assert [f["value"] for f in s["fits"]] == [f["value"] for f in plain["fits"]]

@@ -8,10 +8,25 @@ made with Han's speed law, examples/generate.py; the pendulum heights' striker d
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import pytest
-from fit_tables import EXAMPLES, cell, chain, first_row_only, header, invoke, line, ok, same, scale, shift, write
+from fit_tables import (
+    EXAMPLES,
+    cell,
+    chain,
+    first_row_only,
+    header,
+    invoke,
+    line,
+    ok,
+    rows_scaled,
+    same,
+    scale,
+    shift,
+    write,
+)
 
 BB = ("--R", "0.02855")  # the ball-ball example's radius (its comment says so)
 BB_HEAD = ["v", "phi_deg", "cue_speed", "cue_dir_deg", "obj_speed", "obj_dir_deg"]
@@ -86,6 +101,26 @@ WARNED = {
                                  ("has no width", "copied twice?")),
     "rebound σ far too large": ("rebound", "rebound.csv", same, ("--sigma", "2"), {"sigma-exceeds-scatter"},
                                 ("is σ in the data's unit?",)),
+    # radians under degree headers, and an object ball's direction from the line of centres: the convention named
+    "ball-ball radians under degree headers": ("ball-ball", "ball-ball.csv",
+                                               chain(scale(1, math.pi / 180), scale(3, math.pi / 180),
+                                                     scale(5, math.pi / 180)), BB,
+                                               {"convention", "noise-implausible", "at-bound"},
+                                               ("hold radians, not degrees", "phi_rad")),
+    "ball-ball object direction from the line of centres": ("ball-ball", "ball-ball.csv",
+                                                            lambda t: (t[0], [[*r[:5], repr(float(r[5]) - float(r[1]))]
+                                                                              for r in t[1]]), BB,
+                                                            {"convention", "noise-implausible", "not-identifiable"},
+                                                            ("measured from the line of centres",)),
+    # a declared unit can be wrong too: checked against the other column (issue 30)
+    "rebound u1 declared in cm/s, written in m/s": ("rebound", "rebound.csv", header(["u0_mps", "u1_cmps"]), (),
+                                                    {"implausible-input"}, ("is 0.00801 in the median", "'u1_mps'")),
+    "rebound three impacts in km/h": ("rebound", "rebound.csv", rows_scaled((6, 7, 8), 0, 3.6), (),
+                                      {"implausible-input", "speed-dependence", "noise-implausible"},
+                                      (f"lines {line(6)}–{line(8)}", "km/h")),
+    # positions in cm written as mm: the instants tell (the refusal of cm without a unit names both)
+    "ricochet positions in cm under x_mm": ("ricochet", "ricochet.csv", chain(header(["x_mm", "t"]), scale(0, 100)), (),
+                                            {"implausible-input"}, ("leaves the plane at 77°", "cm (x_cm)")),
 }
 
 
@@ -105,6 +140,15 @@ def test_each_trap_gives_its_warning_and_the_examples_only_theirs(tmp_path: Path
 
 
 REFUSED = {
+    "rebound separated by semicolons": ("rebound", "rebound.csv",
+                                        lambda t: ([";".join(t[0])], [[";".join(r)] for r in t[1]]), (),
+                                        ("separated by semicolons", "(as u0_mps,u1_mps)")),
+    "bounces with decimal commas": ("bounces", "bounces.csv", lambda t: (t[0], [[r[0].replace(".", ",")]
+                                                                                for r in t[1]]), (),
+                                    ("'321,105'", "or a decimal comma (321.105)?")),
+    "ricochet positions in cm, no unit": ("ricochet", "ricochet.csv", scale(0, 100), (),
+                                          ("in cm they would span 0.662 m", "in mm they would span 0.0662 m",
+                                           "(x_cm or x_mm)")),
     "rebound columns swapped": ("rebound", "rebound.csv", header(["u1_mps", "u0_mps"]), (),
                                 ("faster than it arrived", "12 of 12 rows", "the columns may be swapped",
                                  "swap the two names in the header")),

@@ -42,6 +42,7 @@ __all__ = [
     "name_outliers",
     "noise_plausible",
     "plausible_columns",
+    "plausible_ratio",
     "plausible_values",
     "warn",
 ]
@@ -152,23 +153,39 @@ PLAUSIBLE: dict[str, Range] = {
 
 def plausible_columns(s: Series, ranges: dict[str, str], dims: dict[str, str]) -> list[str]:
     """For each column named in ``ranges`` (column → key of ``PLAUSIBLE``), a message when its values (in SI)
-    lie outside the plausible range, naming the unit that would put them inside; none when all are plausible."""
+    lie outside the plausible range, naming the unit that would put them inside (and, where the header gives no
+    unit, the other columns of that dimension without one whose values go with it: a unit left out of one name is
+    left out of its partner's); none when all are plausible."""
     out = []
     for col, key in ranges.items():
         if col not in s:
             continue
         si = np.asarray(s[col], dtype=float)
+        also = [c for c in s.written if c != col and dims.get(c) == dims.get(col) and s.units.get(c) is None
+                and s.units.get(col) is None and _goes_with(s, c, col)]
+        group = np.concatenate([np.asarray(s[c], dtype=float) / s.factors.get(c, 1.0) for c in (col, *also)])
+        names = tuple(c for c in s.written if c in (col, *also))  # in the header's order
         msg = plausible_values(si, si / s.factors.get(col, 1.0), key, dims.get(col), s.units.get(col),
-                               f"column '{s.written[col]}'", s.unit_text.get(col, ""))
+                               f"column '{s.written[col]}'", s.unit_text.get(col, ""), names, group)
         if msg:
             out.append(msg)
     return out
 
 
+def _goes_with(s: Series, c: str, col: str) -> bool:
+    """Column c's values as written are within a factor 10 of col's (median |c|/|col| in [0.01, 10]): measured with
+    it, in its unit."""
+    a, b = np.abs(np.asarray(s[c], dtype=float)), np.abs(np.asarray(s[col], dtype=float))
+    ok = np.isfinite(a) & np.isfinite(b) & (b > 0)
+    return bool(ok.any()) and 0.01 <= float(np.median(a[ok] / b[ok])) <= 10.0
+
+
 def plausible_values(si: np.ndarray, written: np.ndarray, key: str, dim: str | None, unit: str | None, what: str,
-                     unit_text: str) -> str | None:
+                     unit_text: str, columns: Sequence[str] = (), together: np.ndarray | None = None) -> str | None:
     """A message when the magnitudes ``si`` (SI) lie outside ``PLAUSIBLE[key]``, naming the unit of ``dim`` that
-    would put the values as written inside; None when they are plausible (or all missing)."""
+    would put the values as written inside (``together``: those of all ``columns`` at once, so that columns
+    written in one unit are told one unit), and the header names that would say it; None when they are plausible
+    (or all missing)."""
     ok = np.isfinite(si)
     vals, wr = np.abs(si[ok]), np.abs(np.asarray(written, dtype=float)[ok])
     if vals.size == 0:
@@ -179,14 +196,16 @@ def plausible_values(si: np.ndarray, written: np.ndarray, key: str, dim: str | N
         return None
     si_text = unit_label(next(iter(UNITS[dim]))) if dim else ""
     span = f"{float(wr.min()):.4g}" + ("" if wr.min() == wr.max() else f" to {float(wr.max()):.4g}")
+    told = wr if together is None else np.abs(together[np.isfinite(together)])
     return (f"{what}: {span} {unit_text}, outside {rng.low:g}–"
-            f"{rng.high:g} {si_text}, {rng.what}{_unit_hint(wr, rng, dim, unit)}")
+            f"{rng.high:g} {si_text}, {rng.what}{_unit_hint(told, rng, dim, unit, columns)}")
 
 
-def _unit_hint(written: np.ndarray, rng: Range, dim: str | None, unit: str | None) -> str:
-    """'; in cm/s they would be plausible (…'_cmps')': of the other units of the dimension that put the values
-    inside the range, the one that puts their median nearest the range's typical value (mm, not cm, for
-    pendulum heights of 110–280)."""
+def _unit_hint(written: np.ndarray, rng: Range, dim: str | None, unit: str | None, columns: Sequence[str] = ()
+               ) -> str:
+    """'; in cm/s they would be plausible (write the unit in the header: 'u0_cmps', 'u1_cmps')': of the other units
+    of the dimension that put the values inside the range, the one that puts their median nearest the range's
+    typical value (mm, not cm, for pendulum heights of 110–280)."""
     if dim is None:
         return ""
     a = np.abs(written)
@@ -197,7 +216,88 @@ def _unit_hint(written: np.ndarray, rng: Range, dim: str | None, unit: str | Non
     if not fits:
         return ""
     u = min(fits)[1]
-    return f"; in {unit_label(u)} they would be plausible (write the unit in the header, '_{u}')"
+    names = ", ".join(f"'{c}_{u}'" for c in columns) if columns else f"'_{u}'"
+    return f"; in {unit_label(u)} they would be plausible (write the unit in the header: {names})"
+
+
+def plausible_ratio(s: Series, num: str, den: str, dims: dict[str, str], bounds: tuple[float, float], what: str,
+                    typical: tuple[float, float]) -> list[str]:
+    """Two columns against each other, each in its declared unit as read (SI): a median ratio |num|/|den| outside
+    ``bounds`` (a rebound a hundredth of its impact, heights in a ratio no ball makes) is named, with the unit of
+    one column that brings it into ``typical`` (one column's unit written wrong: ``u1_cmps`` over values in m/s);
+    and rows whose ratio jumps from the others' by a unit factor (3.6, 100, 1000: some rows in km/h or cm/s) are
+    named as a group. ``what`` names the ratio for people ("the rebound over the impact")."""
+    if num not in s or den not in s:
+        return []
+    a, b = np.abs(np.asarray(s[num], dtype=float)), np.abs(np.asarray(s[den], dtype=float))
+    ok = np.isfinite(a) & np.isfinite(b) & (a > 0) & (b > 0)
+    if not ok.any():
+        return []
+    r = a[ok] / b[ok]
+    med = float(np.median(r))
+    if not bounds[0] <= med <= bounds[1]:
+        return [f"{what} ({s.written[num]}/{s.written[den]}, each in its header's unit) is {med:.3g} in the median, "
+                f"outside {bounds[0]:g}–{bounds[1]:g}{_ratio_hint(s, num, den, dims, med, typical)}"]
+    group = _unit_jump(s, num, den, r, np.flatnonzero(ok))
+    return [group] if group else []
+
+
+def _ratio_hint(s: Series, num: str, den: str, dims: dict[str, str], med: float, typical: tuple[float, float]
+                ) -> str:
+    """'; with u1 in m/s ('u1_mps' in the header) it would be 0.82': the one change of one column's unit that
+    brings the ratio nearest the middle of ``typical``, if any does."""
+    best = None
+    mid = math.sqrt(typical[0] * typical[1])
+    for col, other in ((num, den), (den, num)):
+        for u, factor in UNITS[dims[col]].items():
+            change = factor / s.factors[col]
+            if math.isclose(change, 1.0):
+                continue
+            new = med * change if col == num else med / change
+            # the other column's unit first (one header written differently from its partner), then SI
+            rank = (0 if u == (s.units.get(other) or next(iter(UNITS[dims[col]]))) else 1 if factor == 1.0 else 2,
+                    abs(math.log(new / mid)))
+            if typical[0] <= new <= typical[1] and (best is None or rank < best[0]):
+                best = (rank, col, u, new)
+    if best is None:
+        return ""
+    _, col, u, new = best
+    return (f"; with {s.written[col]} in {unit_label(u)} ('{col}_{u}' in the header) it would be {new:.3g}: is its "
+            "unit written wrong?")
+
+
+def _unit_jump(s: Series, num: str, den: str, r: np.ndarray, rows: np.ndarray) -> str | None:
+    """Rows whose ratio is a unit factor (3.6, 10, 100, 1000, 2.54 …) away from the others', the others agreeing
+    among themselves far better than that: named as a group, with the pair of units whose factor is nearest."""
+    lr = np.log(r)
+    dev = lr - float(np.median(lr))
+    near = np.abs(dev) > math.log(2.0)
+    rest = ~near
+    if not near.any() or rest.sum() < max(3, near.sum()) or np.ptp(lr[rest]) > math.log(1.5):
+        return None
+    size = float(np.median(np.abs(dev[near])))
+    factors = [(abs(math.log(f1 / f2) - size), f1 / f2, u1, u2) for dim in ("speed", "length", "time", "mass")
+               for u1, f1 in UNITS[dim].items() for u2, f2 in UNITS[dim].items() if f1 / f2 > 2.0]
+    miss, F, big, small = min(factors)
+    if miss > 0.1 * size:
+        return None
+    where = _line_runs([s.lines[int(i)] for i in rows[near]])
+    return (f"lines {where}: {s.written[num]}/{s.written[den]} is {math.exp(size):.3g} times "
+            f"{'larger' if float(np.median(dev[near])) > 0 else 'smaller'} than on the other rows, the factor "
+            f"between {unit_label(big)} and {unit_label(small)} ({F:.4g}): one of the columns there looks like "
+            "another unit")
+
+
+def _line_runs(lines: list[int]) -> str:
+    """'7–9, 12': consecutive line numbers as ranges."""
+    out, start = [], None
+    for i, ln in enumerate(lines):
+        if start is None:
+            start = ln
+        if i + 1 == len(lines) or lines[i + 1] != ln + 1:
+            out.append(f"{start}" if start == ln else f"{start}–{ln}")
+            start = None
+    return ", ".join(out)
 
 
 # --------------------------------------------------------------------------------------------------------------

@@ -41,7 +41,7 @@ HEADERS: dict[str, tuple[tuple[frozenset[str], frozenset[str]], ...]] = {
                  (frozenset({"h0", "h1", "h1p"}), frozenset({"M", "Mp"}))),
     "ricochet": ((frozenset({"x"}), frozenset({"t"})),),
     "bounces": ((frozenset({"t"}), frozenset()),),
-    "ball-ball": ((frozenset({"v", "phi"}), frozenset({"cue_speed", "cue_dir", "obj_speed", "obj_dir"})),),
+    "ball-ball": ((frozenset({"v", "phi"}), frozenset({"cue_speed", "cue_dir", "obj_speed", "obj_dir", "shot"})),),
     "markers": ((frozenset({"series", "psi", "angle"}), frozenset({"figure"})),),
 }
 _KNOWN = frozenset().union(*(r | o for sets in HEADERS.values() for r, o in sets))

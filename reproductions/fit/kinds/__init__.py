@@ -52,7 +52,8 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
          "(m/s) and direction (rad, counter-clockwise from the cue ball's incoming direction, seen from above) once "
          "it rolls. v and phi are required; of the four outcome columns any subset will do (the two speeds alone "
          "fix f and e, as a published table of speeds and cut angles gives them), and an empty cell means not "
-         "measured. The balls are taken equal unless --M and --Mp (and --Rp, --kp) say otherwise.", "ball-ball.csv",
+         "measured. The balls are taken equal unless --M and --Mp (and --Rp, --kp) say otherwise. An optional "
+         "column shot labels each shot (text).", "ball-ball.csv",
          ("M", "Mp", "R", "Rp", "k", "kp", "sigma_speed", "sigma_dir", "bootstrap", "max_seconds")),
     Kind("markers", "ball–ball friction f and e from angle markers of oblique collisions against ψ, §VI n°13",
          "series: alpha1 (the cue ball's turn at the impact, between its directions before and after) or throw "

@@ -37,6 +37,7 @@ from ..checks import (
     name_outliers,
     noise_plausible,
     plausible_columns,
+    plausible_ratio,
     warn,
 )
 from ..estimators.shots import (
@@ -65,6 +66,7 @@ from .common import (
 DIMS = {"v": "speed", "phi": "angle", "cue_speed": "speed", "cue_dir": "angle", "obj_speed": "speed",
         "obj_dir": "angle"}
 REQUIRED = ("v", "phi")
+ID = "shot"  # an optional column of shot labels (text), kept in the per-shot output
 OUTCOMES = QUANTITIES  # cue_speed, cue_dir, obj_speed, obj_dir: any of them, a blank cell is "not measured"
 SPEEDS, DIRS = ("cue_speed", "obj_speed"), ("cue_dir", "obj_dir")
 BOOT_BATCH = 200  # at most this many resamples refitted together (one batched prediction per iteration for all),
@@ -132,7 +134,7 @@ def _slow_hint(stage: str) -> str:
 def _read(path: Path) -> tuple[Series, dict[str, np.ndarray]]:
     """The file's columns (SI); an outcome column absent from the header is all NaN (not measured)."""
     s = read_series(path, REQUIRED, optional=OUTCOMES, min_rows=3, positive=("v", "cue_speed", "obj_speed"),
-                    dims=DIMS, blank=OUTCOMES)
+                    dims=DIMS, blank=OUTCOMES, labels=(ID,))
     if not any(c in s for c in OUTCOMES):
         raise InputError(f"{path}:{header_names(path)[0]}", f"no measured outcome: expected at least one of the "
                                                             f"columns {', '.join(OUTCOMES)} besides v and phi")
@@ -200,11 +202,35 @@ def _readings(s: Series, cols: dict[str, np.ndarray]) -> list[tuple[str, str, di
         out.append((f"degrees (the columns {', '.join(s.written[c] for c in rad)} read as radians)",
                     f"write {' and '.join(c + '_deg' for c in rad)} in the header",
                     {**cols, **{c: cols[c] * a for c in rad}}, -2.0 * n_conv * math.log(a)))
+    deg = [c for c in ("phi", *DIRS) if c in s and s.units[c] == "deg"]
+    if deg and np.nanmax(np.abs(cols["phi"])) * 180 / math.pi < math.pi / 2 and all(
+            np.nanmax(np.abs(cols[c])) * 180 / math.pi <= math.pi for c in deg if c in DIRS):
+        # radians under a degree header: only where the values allow (a cut below 90° read so)
+        b = 180 / math.pi
+        n_conv = sum(int(np.isfinite(cols[c]).sum()) for c in deg if c in DIRS)
+        out.append((f"radians (the columns {', '.join(s.written[c] for c in deg)} hold radians, not degrees)",
+                    f"write {' and '.join(c + '_rad' for c in deg)} in the header",
+                    {**cols, **{c: cols[c] * b for c in deg}}, -2.0 * n_conv * math.log(b)))
+    if "obj_dir" in s and np.isfinite(cols["obj_dir"]).any():
+        phi = cols["phi"]
+        out.append(("the object ball's direction measured from the line of centres (not from the cue ball's "
+                    "incoming direction)", "measure both directions from the cue ball's incoming direction (or add "
+                    "the cut angle to obj_dir)", {**cols, "obj_dir": _wrap_angle(cols["obj_dir"] + phi)}, 0.0))
+        if "cue_dir" in s and np.isfinite(cols["cue_dir"]).any():
+            out.append(("both directions measured from the line of centres (not from the cue ball's incoming "
+                        "direction)", "measure both directions from the cue ball's incoming direction (or add the "
+                        "cut angle to both)", {**cols, "obj_dir": _wrap_angle(cols["obj_dir"] + phi),
+                                               "cue_dir": _wrap_angle(cols["cue_dir"] + phi)}, 0.0))
     out.append(("the cue ball's and the object ball's columns swapped",
                 "swap the cue_ and obj_ columns (cue_: the ball struck by the cue, which strikes the other)",
                 {**cols, "cue_speed": cols["obj_speed"], "cue_dir": cols["obj_dir"], "obj_speed": cols["cue_speed"],
                  "obj_dir": cols["cue_dir"]}, 0.0))
     return out
+
+
+def _wrap_angle(a: np.ndarray) -> np.ndarray:
+    """Angles to (−π, π] (NaN stays NaN: not measured)."""
+    return np.pi - np.mod(np.pi - a, 2 * np.pi)
 
 
 def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.ndarray], deadline: float,
@@ -234,6 +260,10 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
                                     f"impulse's vertical share, {share:.2g}, is taken by neither ball's motion")
     for msg in plausible_columns(s, {"v": "ball-speed", "cue_speed": "ball-speed", "obj_speed": "ball-speed"}, DIMS):
         warn(summary, Code.UNIT, msg)
+    for c in SPEEDS:  # a ball leaving ten times faster, or a hundredth as fast, as the cue ball came: units
+        for msg in plausible_ratio(s, c, "v", DIMS, (0.01, 10.0), f"the {WHAT[c]} over the cue ball's speed",
+                                   (0.1, 1.0)):
+            warn(summary, Code.UNIT, msg)
 
     # Past the time bound from here on, the estimate stands: what the bound stopped (the check of other conventions,
     # the bootstrap) is said, in a warning and in fit.json, and the files are written (issue: the bound once threw
@@ -313,7 +343,8 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     stage("leave-one-out")
     # a given σ that the scatter contradicts would put every shot outside its interval: the scale is estimated
     _loo(summary, s, cols, fit, given and summary["goodness"]["chi2_p"] >= CHI2_P, opts)
-    summary["per_shot"] = [{"line": s.lines[i], "predicted": {c: float(p[c][i]) for c in OUTCOMES},
+    label = (lambda i: {"shot": str(s[ID][i])}) if ID in s else (lambda i: {})
+    summary["per_shot"] = [{"line": s.lines[i], **label(i), "predicted": {c: float(p[c][i]) for c in OUTCOMES},
                             "error": {c: _num(err[c][i]) for c in OUTCOMES}} for i in range(n)]
     f_row = next(r for r in fits if r["id"].endswith(fit.names[0]))
     e_row = next(r for r in fits if r["id"].endswith(fit.names[1]))

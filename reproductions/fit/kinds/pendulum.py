@@ -30,6 +30,7 @@ from ..checks import (
     name_outliers,
     noise_plausible,
     plausible_columns,
+    plausible_ratio,
     warn,
 )
 from ..estimators.lsq import FitResult, fit_direct_impact, numeric_jacobian
@@ -241,6 +242,14 @@ def _check_fit(summary: dict, s: Series, opts: FitOptions, fit: FitResult, data:
                         "the speeds after the impact (V1, V1′)", "m/s")
     cols = {"M": "mass", "Mp": "mass", ("h0" if heights else "V0"): "drop-height" if heights else "pendulum-speed"}
     for msg in plausible_columns(s, cols, DIMS_H if heights else DIMS):
+        warn(summary, Code.UNIT, msg)
+    # the struck body against the striker: a hundredth as fast, or ten times faster (squared for heights), is no
+    # impact of two pendulums whatever the units declared
+    bounds, typical = ((1e-4, 100.0), (0.0025, 4.0)) if heights else ((0.01, 10.0), (0.05, 2.0))
+    num, den = ("h1p", "h0") if heights else ("V1p", "V0")
+    for msg in plausible_ratio(s, num, den, DIMS_H if heights else DIMS, bounds,
+                               "the struck body's speed over the striker's" if not heights else
+                               "the struck body's rise over the striker's drop", typical):
         warn(summary, Code.UNIT, msg)
     rng = PLAUSIBLE["mass"]
     for name, value in (("M", opts.M), ("Mp", opts.Mp)):

@@ -23,7 +23,7 @@ from scipy import special, stats
 from ...errors import InputError
 from ...mechanics import impact
 from ...results import FigureSpec, layer
-from ...series import Series, header_names, read_series
+from ...series import Series, header_names, read_series, unit_label
 from ..checks import (
     CHI2_P,
     Code,
@@ -34,6 +34,7 @@ from ..checks import (
     name_outliers,
     noise_plausible,
     plausible_columns,
+    plausible_ratio,
     warn,
 )
 from ..estimators.trials import (
@@ -159,6 +160,15 @@ def _read(path: Path, which: str, sigma: float | None = None, sigma_in: float | 
     swap_hint = (f"{int(over.sum())} of {n} rows exceed it: the columns may be swapped (the impact goes under "
                  f"'{wa}', the rebound under '{wb}': swap the two names in the header)"
                  + ("" if over.all() else ", or this row mistyped"))
+    fa, fb = s.factors[cols[0]], s.factors[cols[1]]
+    if fa != fb and np.all(np.abs(b) / fb <= (1 + EXCESS_SLACK) * a / fa):  # as written, in one unit, they rebound
+        ua, ub = s.units.get(cols[0]), s.units.get(cols[1])
+        fix = (f"if both are in {unit_label(ua)}, name the rebound '{cols[1]}_{ua}'" if ua and not ub else
+               f"if both are in {unit_label(ub)}, name the impact '{cols[0]}_{ub}'" if ub and not ua else
+               "if both are in one unit, write that unit in both names")
+        swap_hint = (f"the two columns are read in different units ('{wa}': {s.unit_text[cols[0]]}, '{wb}': "
+                     f"{s.unit_text[cols[1]]}), and in one unit every row would rebound slower than it arrived: "
+                     f"{fix}")
     for i in range(n):
         if heights:
             if b[i] < 0:
@@ -365,6 +375,11 @@ def _check_fit(summary: dict[str, Any], s: Series, fr: RatioFit, x: np.ndarray, 
             f"swap the two names in the header ({s.written[in_col]}, {s.written[out_col]})", 0.0)])
     summary["leave_one_out"] = _leave_one_out(summary, s, fr, x, y, heights, by_law, not contradicted, models)
     for msg in plausible_columns(s, {in_col: "drop-height" if heights else "lab-speed"}, DIMS):
+        warn(summary, Code.UNIT, msg)
+    # against each other: a rebound faster than ten times or slower than a hundredth of its impact (squared for
+    # heights) is no rebound, whatever units the header declares
+    bounds, typical = ((1e-4, 100.0), (0.0025, 1.0)) if heights else ((0.01, 10.0), (0.05, 1.0))
+    for msg in plausible_ratio(s, out_col, in_col, DIMS, bounds, "the rebound over the impact", typical):
         warn(summary, Code.UNIT, msg)
 
 

@@ -16,7 +16,7 @@ import numpy as np
 from ...errors import InputError
 from ...mechanics import plane
 from ...results import FigureSpec, layer
-from ...series import check_imprints, read_series
+from ...series import UNITS, Series, check_imprints, read_series, unit_label
 from ..checks import (
     CHI2_P,
     G_HIGH,
@@ -71,7 +71,7 @@ def fit_ricochet(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                                                     "positions and instants from their residuals: leave it out")
     s = read_series(path, ("x",), optional=("t",), min_rows=1, dims=DIMS)
     x, t = s["x"], s.get("t")
-    check_imprints(x, str(path), t, s.lines)
+    check_imprints(x, str(path), t, s.lines, s.units.get("x"))
     x = x - x[0]
     t = None if t is None else t - t[0]
     fi = fit_imprints(x, k=opts.k)
@@ -202,6 +202,29 @@ def _imprint_model(th: np.ndarray, k: float, n: int) -> np.ndarray:
     return th[3] + np.concatenate([[0.0], np.cumsum(P)])
 
 
+STEEPEST = math.radians(60.0)  # a first flight leaving the plane steeper than this is no ricochet (a ball that skims)
+
+
+def _check_rise(summary: dict, s: Series, zeta1: float, along: float) -> None:
+    """The instants give the first flight's normal speed ζ1 (through g), the positions its speed along the plane:
+    a flight steeper than ``STEEPEST`` is a ball hopping in place, not a ricochet, or positions in a unit larger
+    than the header says (the advice on a span too long names two units where positions alone cannot tell them;
+    the instants can). Names each larger unit that makes the flight a skim between 5° and 45°."""
+    if not (along > 0 and math.atan2(zeta1, along) > STEEPEST):
+        return
+    have = UNITS["length"].get(s.units.get("x") or "m", 1.0)
+    tan = zeta1 / along
+    units = [u for u, factor in UNITS["length"].items() if u in ("m", "cm", "mm") and factor > have
+             and math.tan(math.radians(5.0)) <= tan * have / factor <= 1.0]
+    hint = ("; read in " + " or ".join(f"{unit_label(u)} (x_{u})" for u in units) + " it would skim at "
+            + " or ".join(f"{math.degrees(math.atan(tan * have / UNITS['length'][u])):.2g}°" for u in units)
+            if units else "")
+    warn(summary, Code.UNIT, f"the first flight leaves the plane at {math.degrees(math.atan(tan)):.3g}° (its normal "
+                             f"speed {zeta1:.3g} m/s from the instants, {along:.3g} m/s along the plane from the "
+                             f"positions): a ricochet skims; are the positions in a larger unit than the header says "
+                             f"(column '{s.written['x']}'){hint}?")
+
+
 def _check_series(summary: dict, s: dict, x: np.ndarray, model: np.ndarray, fi: FitResult, k: float,
                   t: np.ndarray | None, ft: FitResult | None, g: float) -> None:
     """A ricochet series checks itself: each imprint (and instant) predicted from the others (leave-one-out),
@@ -220,11 +243,12 @@ def _check_series(summary: dict, s: dict, x: np.ndarray, model: np.ndarray, fi: 
     if t is not None:
         msg = plausible_values(np.diff(t), np.diff(s["t"]) / s.factors["t"], "flight-time", "time", s.units.get("t"),
                                f"the flights between the imprints' instants (column '{s.written['t']}')",
-                               s.unit_text["t"])
+                               s.unit_text["t"], ("t",))
         if msg:
             warn(summary, Code.UNIT, msg)
         assert ft is not None  # the instants' fit, made beside the positions'
         nu, zeta1, t0 = ft.point
+        _check_rise(summary, s, float(zeta1), float((x[1] - x[0]) / (t[1] - t[0])))
         mt, Jt = bounce_instants(nu, 2.0 * zeta1 / g, t0, n)
         Jt = Jt.copy()
         Jt[:, 1] *= 2.0 / g  # d/dζ1 of T1 = 2ζ1/g
@@ -247,7 +271,7 @@ def _check_clicks(summary: dict, s: dict, tt: np.ndarray, model: np.ndarray, fb:
     n = tt.size
     flights = np.diff(tt)
     msg = plausible_values(flights, flights / s.factors["t"], "flight-time", "time", s.units.get("t"),
-                           f"the flights between the clicks (column '{s.written['t']}')", s.unit_text["t"])
+                           f"the flights between the clicks (column '{s.written['t']}')", s.unit_text["t"], ("t",))
     if msg:
         warn(summary, Code.UNIT, msg)
     p = dict(zip(fb.names, fb.point, strict=True))
