@@ -3,6 +3,7 @@ kind declares, registered on ``app`` as the group ``fit``."""
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Callable
 from pathlib import Path
@@ -215,6 +216,7 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
     noise = Noise(kw.pop("noise", "auto"))
     try:
         _check_fit_out(out, csv_file)
+        _say_size(name, csv_file, resamples, kw.get("max_seconds"))
         with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), console=err_console,
                       transient=True, disable=not err_console.is_terminal) as bar:
             task = bar.add_task("bootstrap" if resamples else "fit", total=resamples or None)
@@ -257,6 +259,33 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
         err_console.print(Text(f"--strict: {len(outcome.summary['warnings'])} warning(s): exit status 1"),
                           soft_wrap=True)
         raise typer.Exit(1)
+
+
+def _say_size(name: str, csv_file: Path, resamples: int, max_seconds: float | None) -> None:
+    """Before a fit that will take minutes, one line on stderr: the rows, what the kind fits in a minute, the time
+    to expect (the checks of the fit, not the bootstrap, which the progress bar shows)."""
+    from reproductions.fit.kinds import KINDS
+    from reproductions.series import read_text
+
+    rate = KINDS[name].per_minute
+    if not rate:
+        return
+    try:
+        text = read_text(csv_file)
+    except InputError:
+        return  # the fit says why
+    rows = sum(1 for ln in text.splitlines() if ln.strip() and not ln.startswith("#")) - 1
+    if rows <= rate:
+        return
+    minutes = rows / rate
+    boot = f"; then {resamples} bootstrap refits of the same size (--bootstrap 0 skips them)" if resamples else ""
+    bound = (f"; past --max-seconds {max_seconds:g}, which stops a fit with no estimate yet: give more time, as "
+             f"--max-seconds {60 * math.ceil(2 * minutes):g}" if max_seconds is not None and 60 * minutes > max_seconds
+             else "")
+    plural = "" if round(minutes) == 1 else "s"
+    err_console.print(Text(f"{csv_file}: {rows} rows, more than the {rate} a {name} fit handles in a minute on two "
+                           f"cores: expect about {minutes:.0f} minute{plural}{boot}{bound}"), soft_wrap=True,
+                      highlight=False)
 
 
 def _print_warnings(warnings: list[dict[str, str]]) -> None:

@@ -18,7 +18,8 @@ __all__ = ["MAX_IMPRINTS", "MAX_MARKERS", "MIN_IMPRINTS", "MIN_MARKERS", "UNITS"
            "check_imprints", "check_pendulum_trials", "header_names", "read_imprints", "read_markers", "read_rebounds",
            "read_series", "si_unit", "unit_label"]
 
-MAX_CSV_BYTES = 4 << 20  # 4 MiB: a series of 10⁵ rows; a larger file is refused before it is parsed
+MAX_CSV_BYTES = 16 << 20  # 16 MiB: a series of 10⁵ rows (a ball-ball table of 10⁵ shots at full precision is 5–7 MB);
+# a larger file is refused before it is parsed
 MIN_IMPRINTS = 5  # a ricochet series: fewer imprints cannot tell ν from the launch
 MAX_IMPRINTS = 100  # Rozé counted up to 12; after 100 impacts at ν ≤ 0.8 a flight is 1e-10 of the first
 MIN_MARKERS = 5  # angle markers per series: a fit of two parameters and a σ, and a slope, need a few more than three

@@ -131,7 +131,7 @@ def test_bad_input(case: dict[str, Any], baseline: Path, tmp_path: Path, monkeyp
 # (``truncate``: no disk used), so the test shows it is refused by its size, never read; a FIFO with no writer
 # would hang a reader that opened it blocking; a socket can be opened by no reader at all.
 MADE = {"yaml": (("reproduce",), "an experiment file (YAML)", 1 << 20),
-        "csv": (("fit", "rebound"), "a CSV file", 4 << 20),
+        "csv": (("fit", "rebound"), "a CSV file", 16 << 20),
         "json": (("diff", "{out}/coriolis-cushion/summary.json"), "a summary.json file", 16 << 20)}
 
 

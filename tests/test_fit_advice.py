@@ -104,3 +104,21 @@ def test_each_advice_followed_leads_to_a_plausible_file(tmp_path, name, kind, ex
             row = next(f for f in s["fits"] if f["id"].endswith(pid))
             assert row["ci95"][0] <= truth <= row["ci95"][1], (head, row)
     assert good >= 1, ends
+
+
+def test_a_fit_that_will_take_minutes_says_so_before_it_starts(tmp_path, monkeypatch):
+    """Beyond the rows its kind fits in a minute (measured: ``Kind.per_minute``), one line on stderr before the fit
+    (its progress bar shows only on a terminal); below it, nothing."""
+    import dataclasses
+
+    from fit_tables import EXAMPLES
+
+    from reproductions.fit.kinds import KINDS
+
+    quiet = invoke(tmp_path / "a", "rebound", EXAMPLES / "rebound.csv")
+    assert quiet.exit_code == 0 and "a minute" not in quiet.stderr
+    monkeypatch.setitem(KINDS, "rebound", dataclasses.replace(KINDS["rebound"], per_minute=4))
+    res = invoke(tmp_path / "b", "rebound", EXAMPLES / "rebound.csv")
+    assert res.exit_code == 0, res.output
+    said = " ".join(res.stderr.split())
+    assert "12 rows, more than the 4 a rebound fit handles in a minute on two cores: expect about 3 minutes" in said

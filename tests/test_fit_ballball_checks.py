@@ -16,6 +16,7 @@ from cli.main import app
 from reproductions.errors import ComputationError
 from reproductions.fit import run
 from reproductions.fit.estimators import shots as fb
+from reproductions.fit.kinds import ballball
 from reproductions.fit.kinds.ballball import fit_ballball
 from reproductions.fit.run import FitOptions, fit_csv
 
@@ -95,6 +96,17 @@ def test_mirrored_directions_are_named_with_the_fix(tmp_path):
     assert "noise-implausible" in _codes(s)
     best = min(s["conventions"]["readings"], key=lambda r: r["misfit"])
     assert best["f"] == pytest.approx(0.06, abs=0.02) and best["e"] == pytest.approx(0.93, abs=0.03)
+
+
+def test_the_other_readings_are_checked_on_an_even_sample_of_a_long_file(tmp_path, monkeypatch):
+    """A long file's conventions and mass ratio are checked on ``CHECK_SHOTS`` shots spread through it (the check
+    then costs the same for 10⁵ shots as for 2000): with 10 of the example's 14, the mirror is still named."""
+    monkeypatch.setattr(ballball, "CHECK_SHOTS", 10)
+    rows = _example()
+    rows[:, [3, 5]] *= -1
+    s = _fit(_write(tmp_path / "cw.csv", HEADER, rows), tmp_path / "o")
+    assert s["conventions"]["shots"] == 10
+    assert [w for w in s["warnings"] if w["code"] == "convention" and "clockwise" in w["message"]]
 
 
 @pytest.mark.parametrize("header, column", [

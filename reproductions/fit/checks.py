@@ -350,14 +350,18 @@ def leave_one_out(r: np.ndarray, J: np.ndarray, groups: np.ndarray, *, sigma_kno
     U = u[:, keep]
     rank = int(keep.sum())
     rss = float(r @ r)
-    labels = np.unique(groups)
+    groups = np.asarray(groups)
+    order = np.argsort(groups, kind="stable")  # each trial's residuals, in file order: one pass, not one per trial
+    labels, starts = np.unique(groups[order], return_index=True)
+    ends = np.append(starts[1:], N)
     deleted = np.full(N, np.nan)
     sd = np.full(N, np.nan)
     q = np.full(N, np.nan)
     pvals = np.full(labels.size, np.nan)
     statv = np.full(labels.size, np.nan)
-    for k, g in enumerate(labels):
-        idx = np.flatnonzero(groups == g)
+    Qs, sizes, dfs, scales = (np.full(labels.size, np.nan) for _ in range(4))
+    for k in range(labels.size):
+        idx = order[starts[k]:ends[k]]
         H = U[idx] @ U[idx].T
         A = np.eye(idx.size) - H
         if np.linalg.cond(A) > 1e12:  # the trial alone determines a parameter: nothing predicts it
@@ -367,8 +371,6 @@ def leave_one_out(r: np.ndarray, J: np.ndarray, groups: np.ndarray, *, sigma_kno
         Q = float(r[idx] @ e)
         if sigma_known:
             scale2 = 1.0
-            pvals[k] = float(stats.chi2.sf(Q, idx.size))
-            q[idx] = float(stats.norm.ppf(0.975))
         else:
             df = N - rank - idx.size - dof_extra
             if df < 1:
@@ -376,11 +378,21 @@ def leave_one_out(r: np.ndarray, J: np.ndarray, groups: np.ndarray, *, sigma_kno
             scale2 = max(rss - Q, 0.0) / df
             if scale2 <= 0:
                 continue
-            pvals[k] = float(stats.f.sf(Q / idx.size / scale2, idx.size, df))
-            q[idx] = float(stats.t.ppf(0.975, df))
+            dfs[k] = df
+        Qs[k], sizes[k], scales[k] = Q, idx.size, scale2
         statv[k] = Q / scale2
         deleted[idx] = e
         sd[idx] = np.sqrt(np.clip(np.diag(Ainv), 0, None) * scale2)
+    done = np.isfinite(Qs)  # the distributions once for all trials (a call per trial costs more than its algebra)
+    if sigma_known:
+        pvals[done] = stats.chi2.sf(Qs[done], sizes[done])
+        quant = np.where(done, float(stats.norm.ppf(0.975)), np.nan)
+    else:
+        pvals[done] = stats.f.sf(Qs[done] / sizes[done] / scales[done], sizes[done], dfs[done])
+        quant = np.full(labels.size, np.nan)
+        quant[done] = stats.t.ppf(0.975, dfs[done])
+    for k in np.flatnonzero(done):
+        q[order[starts[k]:ends[k]]] = quant[k]
     return {"deleted": deleted, "sd": sd, "q": q, "p": pvals, "stat": statv, "labels": labels,
             "rank": np.array(rank)}
 

@@ -19,9 +19,12 @@ from ..estimators.trials import Bootstrap, Noise
 G = 9.80665  # m/s², standard gravity (the user may give their own with --g)
 DEFAULT_RESAMPLES = 1000
 MIN_BOOT_TRIALS = 3  # fewer trials have too few distinct resamples for a bootstrap to say anything
-# measured: 300 seeded series of 8 rebounds, 400 resamples each (percentile intervals are known to be short at small n)
+# measured for the rebound kinds only: 300 seeded series of 8 rebounds, 400 resamples each (percentile intervals are
+# known to be short at small n); the other kinds' notes quote no figure (issue 30: none quotes another kind's)
 BOOT_NOTE = ("a percentile interval, beside the reported one: with few trials it is too short (it covered 83 % of "
              "synthetic series of 8 rebounds); the 95 % interval is the one to quote")
+BOOT_NOTE_UNMEASURED = ("a percentile interval, beside the reported one: with few trials such intervals are too "
+                        "short, and this kind's coverage of it is not measured; the 95 % interval is the one to quote")
 
 
 @dataclass(frozen=True)

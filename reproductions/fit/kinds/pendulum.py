@@ -36,7 +36,7 @@ from ..checks import (
 from ..estimators.lsq import FitResult, fit_direct_impact, numeric_jacobian
 from ..estimators.trials import bootstrap, with_estimated_scale
 from .common import (
-    BOOT_NOTE,
+    BOOT_NOTE_UNMEASURED,
     MIN_BOOT_TRIALS,
     FitOptions,
     FitOutcome,
@@ -183,7 +183,7 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                                             "trials with a second mass ratio separate ε and ε′")
     summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
                                                       "failed": boot.failed, "kind": "pairs (trials resampled)",
-                                                      "note": BOOT_NOTE}
+                                                      "note": BOOT_NOTE_UNMEASURED}
     headers = ("line", "M (kg)", "M′ (kg)", "V0 (m/s)", "V1 (m/s)", "V1′ (m/s)", "e", "M V0 − M V1 − M′ V1′ (kg·m/s)")
     rows = tuple((s.lines[i], float(M[i]), float(Mp[i]), float(V0[i]), float(V1[i]), float(V1p[i]), float(e_i[i]),
                   float(imbalance[i])) for i in range(n))

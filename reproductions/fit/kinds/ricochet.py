@@ -41,7 +41,7 @@ from ..estimators.lsq import (
 )
 from ..estimators.trials import bootstrap
 from .common import (
-    BOOT_NOTE,
+    BOOT_NOTE_UNMEASURED,
     FitOptions,
     FitOutcome,
     base_summary,
@@ -167,7 +167,7 @@ def fit_clicks(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
                                                       "failed": boot.failed,
                                                       "kind": "residuals (resampled onto the fitted instants)",
-                                                      "note": BOOT_NOTE}
+                                                      "note": BOOT_NOTE_UNMEASURED}
     _check_clicks(summary, s, tt, model, fb, opts.h0, sigma)
     flights = np.diff(t)
     k = np.arange(flights.size)
