@@ -67,7 +67,7 @@ from .lsq import FitResult, analyse, least_squares_fit
 
 __all__ = ["QUANTITIES", "BallBallFit", "OverBudget", "ShotPrediction", "ShotResiduals", "WeightedRows", "ball_tilt",
            "fit_columns", "fit_many", "fit_shots", "predict_shots", "shot_residuals", "synthetic_shots",
-           "weighted_rows"]
+           "weighted_rows", "wrap_angle"]
 
 NAMES = ("f_bb", "e")
 BOUNDS = ((0.0, 0.0), (1.0, 1.0))
@@ -103,7 +103,7 @@ def _lab(vec: np.ndarray, phi: np.ndarray) -> np.ndarray:
     return np.stack([c * x - s * y, s * x + c * y, vec[..., 2]], axis=-1)
 
 
-def _wrap(a: np.ndarray) -> np.ndarray:
+def wrap_angle(a: np.ndarray) -> np.ndarray:
     """Angles to (−π, π]."""
     return np.pi - np.mod(np.pi - a, 2 * np.pi)
 
@@ -137,7 +137,7 @@ def predict_shots(v: ArrayLike, phi: ArrayLike, *, f_bb: ArrayLike, e: ArrayLike
     for vel, spin, r, kk in ((imp.v1, imp.w1, R, k), (imp.v1p, imp.w1p, Rp, kp)):
         # f = g = 1: the rolling velocity does not depend on them
         roll = cloth.slide(vel[..., 0], vel[..., 1], spin[..., 0], spin[..., 1], R=r, k=kk, f=1.0, g=1.0)
-        out.append((np.hypot(roll.vx_roll, roll.vy_roll), _wrap(phi + np.arctan2(roll.vy_roll, roll.vx_roll))))
+        out.append((np.hypot(roll.vx_roll, roll.vy_roll), wrap_angle(phi + np.arctan2(roll.vy_roll, roll.vx_roll))))
     (cs, cd), (os_, od) = out
     normal_e = (imp.v1p[..., 0] - imp.v1[..., 0]) / vx
     return ShotPrediction(cs, cd, os_, od, _lab(imp.v1, phi), _lab(imp.w1, phi), _lab(imp.v1p, phi),
@@ -170,7 +170,7 @@ def _raw(pred: ShotPrediction, obs: np.ndarray, speed_noise: SpeedNoise) -> np.n
     r = p - obs
     if speed_noise == "relative":
         r[[0, 2]] = np.log(p[[0, 2]] / obs[[0, 2]])
-    r[[1, 3]] = _wrap(r[[1, 3]])
+    r[[1, 3]] = wrap_angle(r[[1, 3]])
     return r
 
 
@@ -184,7 +184,7 @@ def shot_residuals(theta: tuple[float, float], v: ArrayLike, phi: ArrayLike, cue
     v, phi, obs = _columns(v, phi, cue_speed, cue_dir, obj_speed, obj_dir, speed_noise)
     pred = predict_shots(v, phi, f_bb=theta[0], e=theta[1], R=R, k=k, M=M, Rp=Rp, kp=kp, Mp=Mp)
     d = np.stack([pred.cue_speed, pred.cue_dir, pred.obj_speed, pred.obj_dir]) - obs
-    d[[1, 3]] = _wrap(d[[1, 3]])
+    d[[1, 3]] = wrap_angle(d[[1, 3]])
     scaled = _raw(pred, obs, speed_noise)
     if sigma_speed is not None or sigma_dir is not None:
         sig = [1.0 if s is None else s for s in (sigma_speed, sigma_dir)]
@@ -844,8 +844,8 @@ def synthetic_shots(rng: np.random.Generator, n: int, *, f_bb: float = 0.06, e: 
         cs, os_ = p.cue_speed * np.exp(sigma_speed * z[0]), p.obj_speed * np.exp(sigma_speed * z[2])
     else:
         cs, os_ = p.cue_speed + sigma_speed * z[0], p.obj_speed + sigma_speed * z[2]
-    return {"v": v, "phi": phi, "cue_speed": cs, "cue_dir": _wrap(p.cue_dir + sigma_dir * z[1]), "obj_speed": os_,
-            "obj_dir": _wrap(p.obj_dir + sigma_dir * z[3])}
+    return {"v": v, "phi": phi, "cue_speed": cs, "cue_dir": wrap_angle(p.cue_dir + sigma_dir * z[1]), "obj_speed": os_,
+            "obj_dir": wrap_angle(p.obj_dir + sigma_dir * z[3])}
 
 
 def fit_columns(cols: Mapping[str, np.ndarray], **kw: object) -> BallBallFit:

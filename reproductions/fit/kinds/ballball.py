@@ -48,6 +48,7 @@ from ..estimators.shots import (
     fit_many,
     predict_shots,
     weighted_rows,
+    wrap_angle,
 )
 from ..estimators.trials import bootstrap_many
 from .common import (
@@ -216,22 +217,17 @@ def _readings(s: Series, cols: dict[str, np.ndarray]) -> list[tuple[str, str, di
         phi = cols["phi"]
         out.append(("the object ball's direction measured from the line of centres (not from the cue ball's "
                     "incoming direction)", "measure both directions from the cue ball's incoming direction (or add "
-                    "the cut angle to obj_dir)", {**cols, "obj_dir": _wrap_angle(cols["obj_dir"] + phi)}, 0.0))
+                    "the cut angle to obj_dir)", {**cols, "obj_dir": wrap_angle(cols["obj_dir"] + phi)}, 0.0))
         if "cue_dir" in s and np.isfinite(cols["cue_dir"]).any():
             out.append(("both directions measured from the line of centres (not from the cue ball's incoming "
                         "direction)", "measure both directions from the cue ball's incoming direction (or add the "
-                        "cut angle to both)", {**cols, "obj_dir": _wrap_angle(cols["obj_dir"] + phi),
-                                               "cue_dir": _wrap_angle(cols["cue_dir"] + phi)}, 0.0))
+                        "cut angle to both)", {**cols, "obj_dir": wrap_angle(cols["obj_dir"] + phi),
+                                               "cue_dir": wrap_angle(cols["cue_dir"] + phi)}, 0.0))
     out.append(("the cue ball's and the object ball's columns swapped",
                 "swap the cue_ and obj_ columns (cue_: the ball struck by the cue, which strikes the other)",
                 {**cols, "cue_speed": cols["obj_speed"], "cue_dir": cols["obj_dir"], "obj_speed": cols["cue_speed"],
                  "obj_dir": cols["cue_dir"]}, 0.0))
     return out
-
-
-def _wrap_angle(a: np.ndarray) -> np.ndarray:
-    """Angles to (−π, π] (NaN stays NaN: not measured)."""
-    return np.pi - np.mod(np.pi - a, 2 * np.pi)
 
 
 def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.ndarray], deadline: float,
@@ -335,7 +331,7 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     p = {"cue_speed": pred.cue_speed, "cue_dir": pred.cue_dir, "obj_speed": pred.obj_speed, "obj_dir": pred.obj_dir}
     err = {c: p[c] - cols[c] for c in OUTCOMES}
     for c in DIRS:
-        err[c] = np.pi - np.mod(np.pi - err[c], 2 * np.pi)
+        err[c] = wrap_angle(err[c])
     summary["fits"] = fits
     summary["identifiability"] = [identifiability(fit, labels, f"{path.name} ({measured})")]
     if fit.identifiability.rank < 2:
@@ -347,7 +343,7 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     _goodness(summary, fit, given)
     stage("leave-one-out")
     # a given σ that the scatter contradicts would put every shot outside its interval: the scale is estimated
-    _loo(summary, s, cols, fit, given and summary["goodness"]["chi2_p"] >= CHI2_P, opts)
+    _loo(summary, s, cols, fit, given and summary["goodness"]["chi2_p"] >= CHI2_P, balls)
     label = (lambda i: {"shot": str(s[ID][i])}) if ID in s else (lambda i: {})
     summary["per_shot"] = [{"line": s.lines[i], **label(i), "predicted": {c: float(p[c][i]) for c in OUTCOMES},
                             "error": {c: _num(err[c][i]) for c in OUTCOMES}} for i in range(n)]
@@ -487,7 +483,7 @@ def _goodness(summary: dict[str, Any], fit: BallBallFit, given: bool) -> None:
 
 
 def _loo(summary: dict[str, Any], s: Series, cols: dict[str, np.ndarray], fit: BallBallFit, given: bool,
-         opts: FitOptions) -> None:
+         balls: dict[str, float]) -> None:
     """Each shot predicted from the others: the linearised deleted residuals of the weighted fit at its optimum
     (``checks.leave_one_out``, the first-order approximation of a refit without the shot, not a refit), each
     measured value's 95 % prediction interval (normal with σ known, ``given``, else Student's t on the degrees of
@@ -497,7 +493,7 @@ def _loo(summary: dict[str, Any], s: Series, cols: dict[str, np.ndarray], fit: B
         summary["leave_one_out"] = []
         return
     sig = [x if math.isfinite(x) else 1.0 for x in (fit.sigma_speed, fit.sigma_dir)]
-    rows = weighted_rows(cols, fit.point, sigma_speed=sig[0], sigma_dir=sig[1], **_balls(opts)[0])
+    rows = weighted_rows(cols, fit.point, sigma_speed=sig[0], sigma_dir=sig[1], **balls)
     # estimated per kind: each scale beyond the common one costs a degree of freedom; a given σ's ratio costs none
     n_kinds = int(fit.n_speed > 0) + int(fit.n_dir > 0)
     extra = 0 if given or summary["noise"]["model"] == "given" else n_kinds - 1
