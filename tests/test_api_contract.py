@@ -438,6 +438,10 @@ def test_no_warning_escapes(capfd):
      "scipy refused"),
 ])
 def test_the_ode_path_on_extreme_scenes_ends_in_one_input_error(model, scene, said):
+    # k = 1e308: which of scipy's failures comes first (a refused state, or a step below the spacing of doubles,
+    # "the ODE solver failed") depends on the processor's rounding: either is the one line asked for
+    if said == "scipy refused" and model == "plane-impact":
+        said = "scipy refused|the ODE solver failed"
     with pytest.raises(InputError, match=said) as caught:
         api.simulate(model, "ode", **scene)
     assert "\n" not in str(caught.value)
