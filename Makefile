@@ -14,7 +14,7 @@ TEST_WORKERS ?= auto
 LOCKTOOLS := $(VENV)/lock-tools
 PIPTOOLS  := pip-tools==7.6.2
 
-.PHONY: setup lock all test lint bench stress golden clean
+.PHONY: setup lock all test lint bench stress golden coverage clean
 
 # `make setup` always reinstalls (what the lock check asks for when .venv drifted); the other targets set up only
 # when requirements.lock or pyproject.toml changed since the last setup
@@ -65,6 +65,10 @@ bench: $(STAMP)
 
 stress: $(STAMP)
 	$(BIN)/resal stress
+
+# re-measure the coverage of every interval `resal fit` prints (about 30 min on two cores): fit/coverage.json
+coverage: $(STAMP)
+	$(BIN)/python -m reproductions.coverage
 
 golden: $(STAMP)
 	$(BIN)/python -m reproductions.golden

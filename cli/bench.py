@@ -33,18 +33,25 @@ def bench(
       resal bench wall-impact --quick
       resal bench direct-impact cue-stroke --quick --out bench-two
       resal bench --quick
+      resal bench fit --quick
 
     The work-precision benchmark: scenes per second and the error where a path declares itself exact, for every
     path of every model, and auto's Pareto verdict (wrong if another exact path is faster and as accurate).
-    Without --quick it takes minutes.
+    `fit` times `resal fit` on large files of each kind (1000 rows with --quick; 1000 and 10 000 without; a fresh
+    process each, with its peak memory); the full benchmark includes it. Without --quick it takes minutes.
     """
     from rich.progress import Progress
 
     from reproductions import bench as bench_mod
     from reproductions.mechanics import registry
 
-    names = _known_models(models)
-    total = sum(len(registry.MODELS[m].paths) + 1 for m in (names or registry.MODELS))
+    names = _known_models(models, extra=(bench_mod.FITS,))
+    models_run = [m for m in names if m != bench_mod.FITS] or ([] if names else list(registry.MODELS))
+    total = sum(len(registry.MODELS[m].paths) + 1 for m in models_run)
+    if bench_mod.FITS in names or (not names and not quick):
+        from reproductions.fitbench import steps
+
+        total += steps(quick)
     try:
         from reproductions.report import ensure_writable
 

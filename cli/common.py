@@ -142,15 +142,16 @@ def _plain_table() -> Table:
     return Table(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False, padding=(0, 1), collapse_padding=True)
 
 
-def _known_models(models: list[str] | None) -> list[str]:
-    """The models named on the command line (none: all), each a model of the registry."""
+def _known_models(models: list[str] | None, extra: tuple[str, ...] = ()) -> list[str]:
+    """The models named on the command line (none: all), each a model of the registry (or one of ``extra``)."""
     from reproductions.mechanics import registry
 
     names = list(models or [])
-    unknown = [m for m in names if m not in registry.MODELS]
+    known = [*registry.MODELS, *extra]
+    unknown = [m for m in names if m not in known]
     if unknown:
-        _fail(InputError(f"model '{unknown[0]}'", f"unknown model (expected some of: {', '.join(registry.MODELS)})"
-                                                  f"{did_you_mean(unknown[0], registry.MODELS)}"))
+        _fail(InputError(f"model '{unknown[0]}'", f"unknown model (expected some of: {', '.join(known)})"
+                                                  f"{did_you_mean(unknown[0], known)}"))
     return names
 
 

@@ -170,8 +170,19 @@ def _fit_command(name: str) -> None:
     example = _example(name, kind.example)
     help_text = (f"{kind.title}.\n\n\b\nExamples:\n  resal examples\n  {example}\n\n"
                  f"`resal examples` copies the example file (synthetic data, labelled so) into resal-examples/.\n\n"
-                 f"Columns: {kind.columns} {UNITS_HELP}")
+                 f"Columns: {kind.columns} {UNITS_HELP}" + _coverage_help(name))
     fit_app.command(name, cls=_FitCommand, help=help_text, short_help=_SUMMARY.get(name))(command)
+
+
+def _coverage_help(kind: str) -> str:
+    """The measured coverage of the kind's intervals (``reproductions/fit/coverage.json``): its sentence wrapped by
+    click, its table kept as laid out (``\\b``)."""
+    from reproductions.fit.coverage_table import help_lines
+
+    lines = help_lines(kind)
+    if not lines:
+        return ""
+    return "\n\n" + lines[0] + "\n\n\b\n" + "\n".join(lines[2:])
 
 
 # each kind's line in `resal fit --help`: whole, in 63 columns (the kinds' titles run to 89)
@@ -216,7 +227,9 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
     noise = Noise(kw.pop("noise", "auto"))
     try:
         _check_fit_out(out, csv_file)
-        _say_size(name, csv_file, resamples, kw.get("max_seconds"))
+        source = _table(csv_file)
+        if not isinstance(source, Path):
+            _say_size(name, csv_file, len(source.rows), resamples, kw.get("max_seconds"))
         with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), console=err_console,
                       transient=True, disable=not err_console.is_terminal) as bar:
             task = bar.add_task("bootstrap" if resamples else "fit", total=resamples or None)
@@ -231,7 +244,7 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
                     bar.update(task, description=what, total=total, completed=0)
 
             opts = FitOptions(noise=noise, resamples=resamples, seed=seed, progress=_Bar(), **kw)
-            outcome = fit_csv(name, csv_file, opts)
+            outcome = fit_csv(name, source, opts)
         try:
             outcome.summary["provenance"] = provenance(csv_file, opts)
         except OSError as err:
@@ -261,20 +274,25 @@ def _run_fit(name: str, kw: dict[str, Any]) -> None:
         raise typer.Exit(1)
 
 
-def _say_size(name: str, csv_file: Path, resamples: int, max_seconds: float | None) -> None:
+def _table(csv_file: Path) -> Any:
+    """The file's rows, read once (``series.Table``) for the size line and the fit; the path itself where it
+    cannot be read, for ``fit_csv`` to say why."""
+    from reproductions.series import read_table
+
+    try:
+        return read_table(csv_file)
+    except (InputError, OSError):
+        return csv_file
+
+
+def _say_size(name: str, csv_file: Path, rows: int, resamples: int, max_seconds: float | None) -> None:
     """Before a fit that will take minutes, one line on stderr: the rows, what the kind fits in a minute, the time
     to expect (the checks of the fit, not the bootstrap, which the progress bar shows)."""
     from reproductions.fit.kinds import KINDS
-    from reproductions.series import read_text
 
     rate = KINDS[name].per_minute
     if not rate:
         return
-    try:
-        text = read_text(csv_file)
-    except InputError:
-        return  # the fit says why
-    rows = sum(1 for ln in text.splitlines() if ln.strip() and not ln.startswith("#")) - 1
     if rows <= rate:
         return
     minutes = rows / rate

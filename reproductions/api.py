@@ -26,9 +26,7 @@ import math
 import operator
 import os
 import pickle
-import re
 import sys
-import tempfile
 import typing
 import warnings
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -53,7 +51,7 @@ from .models import NOT_COMPUTED, OUTPUTS, code_name, solve_scene
 from .models import degrees as to_degrees
 from .processes import checkpoint, interruptible, process_pool
 from .results import Reproduction
-from .series import MAX_CSV_BYTES
+from .series import MAX_CSV_BYTES, Table, table_from_columns
 
 __all__ = ["MAX_JOBS", "MAX_ODE_SCENES", "MAX_SCENES", "Fit", "FitEstimate", "FitWarning", "PathCode", "Regime",
            "RunProgress", "Simulation", "checkpoint", "config_dir", "experiment_ids", "fit", "interruptible",
@@ -681,10 +679,10 @@ def _fit_option(name: str, value: Any) -> Any:
                              else f"{name}={t}")
 
 
-def _columns_csv(columns: Mapping[str, Any], path: Path) -> None:
-    """The arrays as a CSV file (header: the column names, units included; a NaN is an empty cell, "not
-    measured" where the kind allows it). Numbers are written exactly (``repr``); no more than a CSV file
-    ``resal fit`` reads (``series.MAX_CSV_BYTES``)."""
+def _columns_table(columns: Mapping[str, Any]) -> Table:
+    """The arrays as the table a CSV file of them would give (``series.table_from_columns``): the header the
+    column names (units included), a NaN an empty cell ("not measured" where the kind allows it), each number as
+    ``repr`` writes it (exactly); no larger than a CSV file ``resal fit`` reads (``series.MAX_CSV_BYTES``)."""
     if not columns:
         raise InputError("data", "no columns: expected a mapping of column name → array, or a CSV path")
     arrays = {}
@@ -701,31 +699,14 @@ def _columns_csv(columns: Mapping[str, Any], path: Path) -> None:
     if len(lengths) > 1:
         raise InputError("data", "expected columns of one length, got "
                                  + ", ".join(f"{_short(k, 40)}: {len(a)}" for k, a in arrays.items()))
-    text, size = [",".join(arrays)], 0
-    for r in zip(*arrays.values(), strict=True):
-        text.append(",".join("" if math.isnan(v) else repr(float(v)) for v in r))
-        size += len(text[-1]) + 1
-        if size > MAX_CSV_BYTES:  # refused before the whole file is written, as the reader would refuse it
-            raise InputError("data", f"{len(next(iter(arrays.values()))):,} rows make more than {MAX_CSV_BYTES:,} "
-                                     "bytes of CSV, more than resal fit reads: expected fewer trials")
-    path.write_text("\n".join(text) + "\n", encoding="utf-8")
-
-
-def _relabel(obj: Any, path: Path) -> Any:
-    """Strings (nested) with the temporary file's name as the caller knows the data: ``data``, ``data row i`` (the
-    arrays' index i), ``data header``; an empty cell is a NaN."""
-    if isinstance(obj, dict):
-        return {k: _relabel(v, path) for k, v in obj.items()}
-    if isinstance(obj, list):
-        return [_relabel(v, path) for v in obj]
-    if not isinstance(obj, str):
-        return obj
-
-    def name(mt: re.Match[str]) -> str:
-        line = mt.group(1)
-        return "data" if line is None else "data header" if int(line) == 1 else f"data row {int(line) - 2}"
-
-    return re.sub(re.escape(str(path)) + r"(?::(\d+))?", name, obj).replace("got ''", "got NaN")
+    cells, size = [], len(",".join(arrays)) + 1
+    for a in arrays.values():
+        cells.append(["" if math.isnan(v) else repr(v) for v in a.astype(float).tolist()])
+        size += sum(map(len, cells[-1])) + len(a)
+        if size > MAX_CSV_BYTES:  # refused as the reader would refuse their CSV file
+            raise InputError("data", f"{len(a):,} rows make more than {MAX_CSV_BYTES:,} bytes of CSV, more than "
+                                     "resal fit reads: expected fewer trials")
+    return table_from_columns(list(arrays), cells, "data")
 
 
 def fit(kind: str, data: str | os.PathLike[str] | Mapping[str, Any], *, seed: int = 0, **options: Any) -> Fit:
@@ -742,8 +723,8 @@ def fit(kind: str, data: str | os.PathLike[str] | Mapping[str, Any], *, seed: in
     Returns a ``Fit``; the checks' findings are in ``fit.warnings`` (nothing is printed), with the Python
     warnings raised during the fit (code ``numerical``). Raises ``InputError`` for a kind, option or seed unknown,
     out of range or of the wrong type, or bad data (naming the column and row: for arrays, ``data row i`` is index
-    i); ``ComputationError`` (an ``InputError``) when the fit itself fails, or no temporary file can be written for
-    arrays."""
+    i); ``ComputationError`` (an ``InputError``) when the fit itself fails. Arrays reach the fit as the same table a
+    CSV file gives (``series.Table``): no file is written."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         for category in (DeprecationWarning, PendingDeprecationWarning, FutureWarning, ImportWarning):
@@ -788,33 +769,13 @@ def _fit(kind: Any, data: Any, seed: Any, options: dict[str, Any]) -> Fit:
     noise = Noise(checked.pop("noise", "auto"))
     resamples = checked.pop("bootstrap", FitOptions.resamples if "bootstrap" in takes else 0)
     opts = FitOptions(noise=noise, resamples=resamples, seed=seed, **checked)
+    source: Path | Table = _columns_table(data) if isinstance(data, Mapping) else path
     try:
-        tmp_dir = tempfile.TemporaryDirectory(prefix="resal-fit-") if isinstance(data, Mapping) else None
-    except OSError as err:  # no writable temporary folder: the environment
-        raise ComputationError("data", f"cannot create a temporary folder for the arrays' CSV file "
-                                       f"({err.strerror or err}; TMPDIR names another)") from None
-    try:
-        if tmp_dir is not None:
-            path = Path(tmp_dir.name) / "data.csv"
-            try:
-                _columns_csv(data, path)
-            except OSError as err:  # a full disk
-                raise ComputationError("data", f"cannot write the arrays' temporary CSV file "
-                                               f"({err.strerror or err})") from None
-        try:
-            outcome = fit_csv(kind, path, opts)
-        except InputError as err:
-            if tmp_dir is None:
-                raise
-            raise type(err)(_relabel(err.where, path), _relabel(err.message, path)) from None
-        except (ArithmeticError, ValueError) as err:
-            raise ComputationError("data" if tmp_dir is not None else str(path),
-                                   f"the fit failed: {err}") from None
-        if tmp_dir is not None:
-            outcome = dataclasses.replace(outcome, summary=_relabel(outcome.summary, path))
-    finally:
-        if tmp_dir is not None:
-            tmp_dir.cleanup()
+        outcome = fit_csv(kind, source, opts)
+    except InputError:  # an InputError is a ValueError: passed on as it is
+        raise
+    except (ArithmeticError, ValueError) as err:
+        raise ComputationError("data" if isinstance(source, Table) else str(path), f"the fit failed: {err}") from None
     s = outcome.summary
     estimates = tuple(FitEstimate(f["id"], f["parameter"], f["value"], f["stderr"], tuple(f["ci95"]),
                                   None if f.get("ci95_bootstrap") is None else tuple(f["ci95_bootstrap"]),

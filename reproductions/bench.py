@@ -39,6 +39,7 @@ GRID_SCENES = 12
 REFERENCE = ("DOP853", 1e-13)  # the reference the closed forms are judged against: the ODE path, tightened
 N1_REPEAT = 300  # repeats of one scene (N = 1) through a closed form: its minimum is the cost without the noise
 MAKE_ALL_REPEAT = 3  # `resal reproduce --all`, recomputed and reused: the median of this many runs each
+FITS = "fit"  # the name that selects the fits on large files (``fitbench``) among the models
 FASTER = 1.5  # "faster" in the Pareto verdict: by at least this factor (paths of equal cost differ by timing noise)
 
 
@@ -300,32 +301,41 @@ def make_all_times(repeat: int = MAKE_ALL_REPEAT, progress: Callable[[str], None
 
 
 def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str], None] | None = None) -> dict:
-    """The benchmark report (``bench.json``): per model its paths and Pareto verdict, and the machine."""
+    """The benchmark report (``bench.json``): per model its paths and Pareto verdict, and the machine. ``fit`` among
+    ``models`` (alone: ``resal bench fit``) times ``resal fit`` on large files (``fitbench``): at 1000 rows with
+    ``quick``, 1000 and 10 000 rows otherwise; the full benchmark (no names, not quick) includes it."""
     cfg = QUICK if quick else FULL
-    chosen = list(models) or list(registry.MODELS)
+    fits = FITS in models or (not models and not quick)
+    chosen = [x for x in models if x != FITS] or ([] if models else list(registry.MODELS))
     unknown = [x for x in chosen if x not in registry.MODELS]
     if unknown:
-        raise KeyError(f"unknown model(s) {', '.join(unknown)} (expected some of: {', '.join(registry.MODELS)})")
+        raise KeyError(f"unknown model(s) {', '.join(unknown)} (expected some of: {', '.join(registry.MODELS)}, "
+                       f"or {FITS})")
     import scipy
 
-    report = {"quick": quick, "config": cfg, "timer": "time.perf_counter, minimum over repeats after a warm-up",
-              "machine": {"python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__,
-                          "processor": platform.processor() or platform.machine(), "system": platform.system()},
-              "reference": f"the ODE path with {REFERENCE[0]} at rtol {REFERENCE[1]:g} (closed forms and "
-                           "approximations); the exact path (the ODE itself and its solver grid)",
-              "models": [model_rows(registry.MODELS[x], cfg["n_fast"], cfg["n_ode"], cfg["repeat"],
-                                    progress=progress, solvers=cfg["solvers"], rtols=cfg["rtols"])
-                         for x in chosen]}
+    report: dict[str, Any] = {
+        "quick": quick, "config": cfg, "timer": "time.perf_counter, minimum over repeats after a warm-up",
+        "machine": {"python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__,
+                    "processor": platform.processor() or platform.machine(), "system": platform.system()},
+        "reference": f"the ODE path with {REFERENCE[0]} at rtol {REFERENCE[1]:g} (closed forms and "
+                     "approximations); the exact path (the ODE itself and its solver grid)",
+        "models": [model_rows(registry.MODELS[x], cfg["n_fast"], cfg["n_ode"], cfg["repeat"],
+                              progress=progress, solvers=cfg["solvers"], rtols=cfg["rtols"]) for x in chosen]}
     if "direct-impact" in chosen:
         report["direct_impact_ode_tolerances"] = direct_impact_curve(cfg["n_ode"], cfg["repeat"])
-    report["closed_forms_by_hand"] = by_hand(cfg["n_fast"], cfg["repeat"])
-    if progress:
-        progress("one scene (N = 1): where its time goes")
-    from .mechanics import timing
+    if chosen:
+        report["closed_forms_by_hand"] = by_hand(cfg["n_fast"], cfg["repeat"])
+        if progress:
+            progress("one scene (N = 1): where its time goes")
+        from .mechanics import timing
 
-    report["n1"] = timing.n1_times(chosen, repeat=200 if quick else 3000)
+        report["n1"] = timing.n1_times(chosen, repeat=200 if quick else 3000)
     if not quick and not models:  # the whole command, as a user waits on it (seconds each: not in --quick)
         report["make_all"] = make_all_times(progress=progress)
+    if fits:
+        from . import fitbench
+
+        report["fits"] = fitbench.run(fitbench.sizes(quick), progress=progress)
     return report
 
 
@@ -416,7 +426,7 @@ def _write(report: dict, out: Path, figures: Path, plt: Any, write_folder: Calla
     written = [out / "bench.json", out / "bench.md"]
     bench_json = json.dumps(report, indent=1) + "\n"
     lines = ["# Work-precision benchmark", "", f"Timer: {report['timer']}. Machine: {report['machine']}.", ""]
-    for mod in report["models"]:
+    for mod in report.get("models", []):
         lines += [f"## {mod['model']} ({mod['section']})", "",
                   "| path | kind | reference | scenes/s | floor fraction | N = 1 (µs) | max error where exact | "
                   "median | max error, all scenes | failures |", "|---|---|---|---|---|---|---|---|---|---|"]
@@ -446,17 +456,23 @@ def _write(report: dict, out: Path, figures: Path, plt: Any, write_folder: Calla
                   "| rtol | seconds per scene | max error | mean nfev |", "|---|---|---|---|"]
         lines += [f"| {r['rtol']:g} | {r['seconds_per_scene']:.3g} | {r['max_error']:.2e} | {r['mean_nfev']:.1f} |"
                   for r in report["direct_impact_ode_tolerances"]]
-    lines += ["", "## Closed forms against one hand-written numpy expression of the same formula", "",
-              "| model | path (scenes/s) | by hand (scenes/s) | slowdown |", "|---|---|---|---|"]
-    lines += [f"| {r['model']} | {r['path_scenes_per_second']:.3g} | {r['hand_scenes_per_second']:.3g} | "
-              f"{r['slowdown']:.2f}× |" for r in report["closed_forms_by_hand"]]
-    lines += ["", "## One scene (N = 1) through `auto`: where the time goes (µs, minimum over repeats)", "",
-              "`paths.solve(model, model.scene(values), \"auto\")` for the model's defaults and typical coefficients; "
-              "the parts are timed apart, so they add up to the total only to within the timer's noise.", "",
-              "| model | path | total | scene | dispatch | physics | result assembly |",
-              "|---|---|---|---|---|---|---|"]
-    lines += [f"| {name} | {r['path']} | {r['total']:.3g} | {r['scene']:.3g} | {r['dispatch']:.3g} | "
-              f"{r['physics']:.3g} | {r['assembly']:.3g} |" for name, r in report.get("n1", {}).items()]
+    if "closed_forms_by_hand" in report:
+        lines += ["", "## Closed forms against one hand-written numpy expression of the same formula", "",
+                  "| model | path (scenes/s) | by hand (scenes/s) | slowdown |", "|---|---|---|---|"]
+        lines += [f"| {r['model']} | {r['path_scenes_per_second']:.3g} | {r['hand_scenes_per_second']:.3g} | "
+                  f"{r['slowdown']:.2f}× |" for r in report["closed_forms_by_hand"]]
+    if "n1" in report:
+        lines += ["", "## One scene (N = 1) through `auto`: where the time goes (µs, minimum over repeats)", "",
+                  "`paths.solve(model, model.scene(values), \"auto\")` for the model's defaults and typical "
+                  "coefficients; the parts are timed apart, so they add up to the total only to within the timer's "
+                  "noise.", "", "| model | path | total | scene | dispatch | physics | result assembly |",
+                  "|---|---|---|---|---|---|---|"]
+        lines += [f"| {name} | {r['path']} | {r['total']:.3g} | {r['scene']:.3g} | {r['dispatch']:.3g} | "
+                  f"{r['physics']:.3g} | {r['assembly']:.3g} |" for name, r in report["n1"].items()]
+    if "fits" in report:
+        from .fitbench import markdown as fits_markdown
+
+        lines += ["", *fits_markdown(report["fits"])]
     if "make_all" in report:
         ma = report["make_all"]
         lines += ["", f"## `make all` (`{ma['command']}`), median of {ma['repeat']} runs", "",

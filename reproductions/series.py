@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import csv
 import math
-from collections.abc import Collection, Sequence
+from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -14,9 +14,9 @@ import numpy as np
 from .config import comma_problem, comma_readings, decode_text, read_input, shorten, underflows
 from .errors import InputError
 
-__all__ = ["MAX_IMPRINTS", "MAX_MARKERS", "MIN_IMPRINTS", "MIN_MARKERS", "UNITS", "Markers", "Series",
-           "check_imprints", "check_pendulum_trials", "header_names", "read_imprints", "read_markers", "read_rebounds",
-           "read_series", "si_unit", "unit_label"]
+__all__ = ["MAX_IMPRINTS", "MAX_MARKERS", "MIN_IMPRINTS", "MIN_MARKERS", "UNITS", "Markers", "Series", "Table",
+           "as_table", "check_imprints", "check_pendulum_trials", "header_names", "read_imprints", "read_markers",
+           "read_rebounds", "read_series", "read_table", "si_unit", "table_from_columns", "unit_label"]
 
 MAX_CSV_BYTES = 16 << 20  # 16 MiB: a series of 10⁵ rows (a ball-ball table of 10⁵ shots at full precision is 5–7 MB);
 # a larger file is refused before it is parsed
@@ -89,9 +89,84 @@ def _factor(dims: dict[str, str] | None, name: str, unit: str | None) -> float:
     return 1.0 if unit is None or dims is None else UNITS[dims[name]][unit]
 
 
+@dataclass(frozen=True)
+class Table:
+    """A series as read, before any column is interpreted: from a CSV file (``read_table``) or from a program's
+    arrays (``table_from_columns``, the Python API), the one object every reader and check works on. Rows keep the
+    line they came from; for arrays the header is line 1 and row i is line i + 2, named "data row i"."""
+
+    where: str  # the file's path as given, or "data"
+    name: str  # the file's name (a label's), or "data"
+    head_line: int  # 0: no header (an empty file)
+    head: str  # the header line as written
+    header: list[str]
+    rows: list[tuple[int, list[str]]]  # (line, cells stripped)
+    arrays: bool = False
+
+    def at(self, line: int) -> str:
+        """A place in the series as a message names it: ``file:line``, or ``data header`` / ``data row i``."""
+        if not self.arrays:
+            return f"{self.where}:{line}"
+        return f"{self.where} header" if line == self.head_line else f"{self.where} row {line - 2}"
+
+    def span(self, lines: Sequence[int]) -> str:
+        """'lines 7–9, 12' of a file; 'rows 5–7, 10' of arrays (their indices)."""
+        if self.arrays:
+            return f"rows {_runs([ln - 2 for ln in lines])}"
+        return f"lines {_runs(list(lines))}"
+
+    def named(self, lines: Sequence[int]) -> str:
+        """'line(s) 7, 12' of a file; 'row(s) 5, 10' of arrays (their indices)."""
+        if self.arrays:
+            return f"row(s) {', '.join(str(ln - 2) for ln in lines)}"
+        return f"line(s) {', '.join(map(str, lines))}"
+
+    def shown(self, cell: str) -> str:
+        """A cell quoted in a message: an array's NaN is its empty cell."""
+        return "NaN" if self.arrays and not cell else shorten(cell)
+
+
+def _runs(numbers: list[int]) -> str:
+    """'7–9, 12': consecutive numbers as ranges."""
+    out, start = [], None
+    for i, ln in enumerate(numbers):
+        if start is None:
+            start = ln
+        if i + 1 == len(numbers) or numbers[i + 1] != ln + 1:
+            out.append(f"{start}" if start == ln else f"{start}–{ln}")
+            start = None
+    return ", ".join(out)
+
+
+def read_table(path: Path) -> Table:
+    """The rows of a CSV file: ``read_text``'s checks, lines that are empty or start with ``#`` skipped (before
+    the header too), cells split as CSV and stripped."""
+    text = read_text(path)
+    numbered = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.startswith("#")]
+    if not numbered:
+        return Table(str(path), path.name, 0, "", [], [])
+    # line by line, as a person reads them: an unclosed quote is that row's mistake, never a field that runs on
+    header = [h.strip() for h in next(csv.reader([numbered[0][1]]))]
+    rows = [(n, [c.strip() for c in next(csv.reader([ln]))]) for n, ln in numbered[1:]]
+    return Table(str(path), path.name, numbered[0][0], numbered[0][1], header, rows)
+
+
+def table_from_columns(header: Sequence[str], columns: Sequence[Sequence[str]], where: str = "data") -> Table:
+    """Arrays as a table: ``columns`` of cells as text, one list per header name, all of one length (a NaN is
+    the empty cell: "not measured" where a kind allows it). The caller checks the names and the numbers."""
+    n = len(columns[0]) if columns else 0
+    rows = [(i + 2, [c[i] for c in columns]) for i in range(n)]
+    return Table(where, where, 1, ",".join(header), list(header), rows, arrays=True)
+
+
+def as_table(source: Path | Table) -> Table:
+    return source if isinstance(source, Table) else read_table(Path(source))
+
+
 class Series(dict):
     """Columns of a CSV series (name → array), with ``where`` (the file) and ``lines`` (each row's line)."""
 
+    table: Table
     where: str
     lines: list[int]
     units: dict[str, str | None]  # per column: the unit written in the header, None when read as SI
@@ -100,14 +175,15 @@ class Series(dict):
     unit_text: dict[str, str]  # per column: its unit as people write it (cm/s; the SI unit when none was written)
 
     def at(self, row: int) -> str:
-        return f"{self.where}:{self.lines[row]}"
+        return self.table.at(self.lines[row])
 
 
-def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = (), min_rows: int = 1,
+def read_series(source: Path | Table, columns: Sequence[str], optional: Sequence[str] = (), min_rows: int = 1,
                 positive: Sequence[str] = (), dims: dict[str, str] | None = None,
                 nonnegative: Sequence[str] = (), blank: Sequence[str] = (), labels: Sequence[str] = ()) -> Series:
-    """A measurement series from a CSV file with a header; every bad row is reported as file:line. Lines that
-    are empty or start with ``#`` are skipped (before the header too); a UTF-8 byte-order mark is accepted.
+    """A measurement series from a CSV file with a header, or a ``Table`` of arrays; every bad row is reported as
+    file:line (data row i). Lines that are empty or start with ``#`` are skipped (before the header too); a UTF-8
+    byte-order mark is accepted.
 
     With ``dims`` (column → dimension, a key of ``UNITS``) a header may carry a unit, ``V0_mps``, ``h0_mm``,
     ``t_ms``: the values are converted to SI and ``units`` records, per column, the unit as written (None: no
@@ -116,42 +192,39 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
     In the columns named in ``blank`` an empty cell means "not measured" and is read as NaN (never 0); in the
     others it is refused like any cell that is not a number. The optional columns named in ``labels`` hold text
     (a shot's id), kept as written, never read as numbers."""
-    where = str(path)
-    text = read_text(path)
-    numbered = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.startswith("#")]
-    if not numbered:
+    tab = as_table(source)
+    where = tab.where
+    if not tab.head_line:
         raise InputError(where, f"empty series (expected a header with columns {', '.join(columns)})")
-    head_line, head = numbered[0]
-    written = [h.strip() for h in next(csv.reader([head]))]
+    head_line, head, written = tab.head_line, tab.head, tab.header
     if len(written) == 1 and len(columns) + len(optional) > 1:
         for sep, name in ((";", "semicolons"), ("\t", "tabs")):
             if sep in head:
-                raise InputError(f"{where}:{head_line}", f"the header is separated by {name}: expected commas "
-                                                         f"(as {','.join(p.strip() for p in head.split(sep))}), "
-                                                         "and in every row")
+                raise InputError(tab.at(head_line), f"the header is separated by {name}: expected commas "
+                                                    f"(as {','.join(p.strip() for p in head.split(sep))}), "
+                                                    "and in every row")
     optional = [*optional, *labels]
-    _no_empty_name(written, [*columns, *optional], f"{where}:{head_line}")
-    header, units = _parse_header(written, [*columns, *optional], dims, f"{where}:{head_line}")
+    _no_empty_name(written, [*columns, *optional], tab.at(head_line))
+    header, units = _parse_header(written, [*columns, *optional], dims, tab.at(head_line))
     missing = [c for c in columns if c not in header]
     if missing:
-        raise InputError(f"{where}:{head_line}", f"missing column(s) {', '.join(missing)} in the header "
+        raise InputError(tab.at(head_line), f"missing column(s) {', '.join(missing)} in the header "
                                                  f"(expected {', '.join(columns)})")
     unknown = [w for h, w in zip(header, written, strict=True) if h not in columns and h not in optional]
     if unknown:
-        raise InputError(f"{where}:{head_line}", f"unknown column(s) {', '.join(unknown)} "
+        raise InputError(tab.at(head_line), f"unknown column(s) {', '.join(unknown)} "
                                                  f"(expected {', '.join([*columns, *optional])})")
     data: dict[str, list[Any]] = {h: [] for h in header}
-    for line_no, ln in numbered[1:]:
-        cells = [c.strip() for c in next(csv.reader([ln]))]
+    for line_no, cells in tab.rows:
         if len(header) == 1 and len(cells) == 2 and comma_readings(",".join(cells)):  # 0,512: a decimal comma
-            raise InputError(f"{where}:{line_no}", f"column '{written[0]}': expected one number, got "
+            raise InputError(tab.at(line_no), f"column '{written[0]}': expected one number, got "
                                                    f"'{shorten(','.join(cells))}': {comma_problem(','.join(cells))}")
         if len(cells) != len(header):
             trailing = " (the last one empty: a trailing comma?)" if len(cells) > len(header) and not cells[-1] else ""
-            raise InputError(f"{where}:{line_no}", f"expected {len(header)} values, got {len(cells)}{trailing}")
+            raise InputError(tab.at(line_no), f"expected {len(header)} values, got {len(cells)}{trailing}")
         for j, (h, w, cell) in enumerate(zip(header, written, cells, strict=True)):
             col = f"column '{w}' (#{j + 1})" if len(header) > 1 else f"column '{w}'"
-            shown = shorten(cell)  # a cell of a thousand digits is quoted by its start and its length
+            shown = tab.shown(cell)  # a cell of a thousand digits is quoted by its start and its length
             if h in labels:
                 data[h].append(cell)
                 continue
@@ -159,29 +232,29 @@ def read_series(path: Path, columns: Sequence[str], optional: Sequence[str] = ()
                 data[h].append(math.nan)
                 continue
             if "," in cell:  # a quoted cell, "1,000": never read as 1 or 1000 by a guess
-                raise InputError(f"{where}:{line_no}", f"{col}: expected one number, got '{shown}': "
+                raise InputError(tab.at(line_no), f"{col}: expected one number, got '{shown}': "
                                                        f"{comma_problem(cell)}")
             try:
                 v = float(cell)
             except ValueError:
                 empty = " or an empty cell (not measured)" if h in blank else ""
-                raise InputError(f"{where}:{line_no}", f"{col}: expected a number{empty}, got '{shown}'") from None
+                raise InputError(tab.at(line_no), f"{col}: expected a number{empty}, got '{shown}'") from None
             if not math.isfinite(v):
-                raise InputError(f"{where}:{line_no}", f"{col}: expected a finite number, got '{shown}'")
+                raise InputError(tab.at(line_no), f"{col}: expected a finite number, got '{shown}'")
             if (v != 0 or underflows(cell, v)) and not MIN_MAGNITUDE <= abs(v) <= MAX_MAGNITUDE:
                 zero = " (it underflows to 0 in floating point)" if v == 0 else ""
-                raise InputError(f"{where}:{line_no}", f"{col}: {shown} is no measurement in any unit{zero}: expected "
+                raise InputError(tab.at(line_no), f"{col}: {shown} is no measurement in any unit{zero}: expected "
                                                        f"a magnitude between {MIN_MAGNITUDE:g} and {MAX_MAGNITUDE:g} "
                                                        "(or 0)")
             if h in positive and v <= 0:
-                raise InputError(f"{where}:{line_no}", f"{col}: expected a positive number, got '{shown}'")
+                raise InputError(tab.at(line_no), f"{col}: expected a positive number, got '{shown}'")
             if h in nonnegative and v < 0:
-                raise InputError(f"{where}:{line_no}", f"{col}: expected a number ≥ 0, got '{shown}'")
+                raise InputError(tab.at(line_no), f"{col}: expected a number ≥ 0, got '{shown}'")
             data[h].append(v * _factor(dims, h, units[h]))
-    if len(numbered) - 1 < min_rows:
-        raise InputError(where, f"expected at least {min_rows} data row(s), got {len(numbered) - 1}")
+    if len(tab.rows) < min_rows:
+        raise InputError(where, f"expected at least {min_rows} data row(s), got {len(tab.rows)}")
     out = Series({h: np.asarray(v) for h, v in data.items()})
-    out.where, out.lines = where, [n for n, _ in numbered[1:]]
+    out.table, out.where, out.lines = tab, where, [n for n, _ in tab.rows]
     out.units, out.written = units, dict(zip(header, written, strict=True))
     out.factors = {h: _factor(dims, h, units[h]) for h in header}
     out.unit_text = {h: unit_label(units[h]) if units[h] is not None else
@@ -196,19 +269,16 @@ def read_text(path: Path) -> str:
     return decode_text(data, str(path), "a CSV file")
 
 
-def header_names(path: Path, known: Collection[str] = ()) -> tuple[int, set[str]]:
+def header_names(source: Path | Table, known: Collection[str] = ()) -> tuple[int, set[str]]:
     """The header's line and its column names without their units (``V0_mps`` → ``V0``, ``obj_dir_deg`` →
     ``obj_dir``; ``cue_speed`` kept: a suffix is a known unit, or follows a ``known`` column name, so that
     ``V0_furlong`` is V0 with a unit ``read_series`` then refuses), to tell which set of columns a file holds;
     (0, ∅) when the file cannot be read (``read_series`` then says why)."""
     try:
-        text = read_text(path)
+        tab = as_table(source)
     except InputError:
         return 0, set()
-    for i, ln in enumerate(text.splitlines()):
-        if ln.strip() and not ln.startswith("#"):
-            return i + 1, {_without_unit(h.strip(), known) for h in next(csv.reader([ln])) if h.strip()}
-    return 0, set()
+    return tab.head_line, {_without_unit(h, known) for h in tab.header if h}
 
 
 def _without_unit(name: str, known: Collection[str]) -> str:
@@ -218,12 +288,12 @@ def _without_unit(name: str, known: Collection[str]) -> str:
     return base if base in known or any(unit in units for units in UNITS.values()) else name
 
 
-def read_rebounds(path: Path, heights: bool) -> Series:
+def read_rebounds(source: Path | Table, heights: bool) -> Series:
     """Rebounds on an immovable mass (§I eq. (9)): columns ``V0,V1`` (signed velocities, m/s: V0 > 0 towards the
     mass, V1 ≤ 0 after the impact, away from it) or ``h0,h1`` (drop and rebound heights, m). A rebound faster or
     higher than the impact would need ε < 0; a positive V1 is a speed given without its sign. Both are refused."""
     cols = ("h0", "h1") if heights else ("V0", "V1")
-    s = read_series(path, cols, min_rows=2, positive=(cols[0],))
+    s = read_series(source, cols, min_rows=2, positive=(cols[0],))
     a, b = s[cols[0]], s[cols[1]]
     for i in range(a.size):
         if heights and b[i] < 0:
@@ -270,15 +340,15 @@ def check_pendulum_trials(s: Series, M: np.ndarray, Mp: np.ndarray, sigma: float
                                       f"{allowed_v})")
 
 
-def check_imprints(x: np.ndarray, where: str, t: np.ndarray | None = None, lines: Sequence[int] | None = None,
+def check_imprints(x: np.ndarray, where: str, t: np.ndarray | None = None, row: Callable[[int], str] | None = None,
                    unit: str | None = None) -> None:
     """A ricochet series: ``MIN_IMPRINTS`` to ``MAX_IMPRINTS`` imprints, strictly increasing, in metres (spanning
     at most ``MAX_SPAN``), and with instants (seconds) that increase and give a launch of at most ``MAX_SPEED``.
-    ``lines`` (each imprint's line in the file) lets a bad imprint be named as file:line; ``unit``: the unit the
-    header gave x (None: metres), for the advice on a span too long."""
+    ``row`` (imprint index → its place, ``Series.at``) lets a bad imprint be named as file:line; ``unit``: the
+    unit the header gave x (None: metres), for the advice on a span too long."""
 
     def at(i: int) -> str:
-        return f"{where}:{lines[i]}" if lines is not None else where
+        return row(i) if row is not None else where
 
     if x.size < MIN_IMPRINTS:
         raise InputError(where, f"expected at least {MIN_IMPRINTS} imprints, got {x.size}")
@@ -331,12 +401,12 @@ def _span_hint(span: float, unit: str | None) -> str:
             "which (the fit's f depends on it)")
 
 
-def read_imprints(path: Path) -> tuple[np.ndarray, np.ndarray | None]:
+def read_imprints(source: Path | Table) -> tuple[np.ndarray, np.ndarray | None]:
     """A ricochet series (column x in m, optional t in s; a header may give their units, x_mm, t_ms), both
     measured from the first imprint."""
-    d = read_series(path, ("x",), optional=("t",), min_rows=1, dims={"x": "length", "t": "time"})
+    d = read_series(source, ("x",), optional=("t",), min_rows=1, dims={"x": "length", "t": "time"})
     x, t = d["x"], d.get("t")
-    check_imprints(x, str(path), t, d.lines, d.units.get("x"))
+    check_imprints(x, d.where, t, d.at, d.units.get("x"))
     return x - x[0], None if t is None else t - t[0]
 
 
@@ -348,49 +418,46 @@ class Markers:
     where: str
 
 
-def read_markers(path: Path, allowed: tuple[str, ...], required: tuple[str, ...] | None = None,
+def read_markers(source: Path | Table, allowed: tuple[str, ...], required: tuple[str, ...] | None = None,
                  min_markers: int = MIN_MARKERS) -> Markers:
     """Markers from a CSV with a header ``series,psi_deg,angle_deg`` (an optional last column ``figure`` is
     ignored): series one of ``allowed``, ψ in (0°, 90°), the angle a finite number of degrees in (−90°, 90°]; at
     least ``min_markers`` of each series of ``required`` (default: all allowed) and of each series present. Every
     bad row is refused with its file:line."""
-    where = str(path)
-    text = read_text(path)
-    numbered = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.startswith("#")]
-    if not numbered:
+    tab = as_table(source)
+    where = tab.where
+    if not tab.head_line:
         raise InputError(where, "empty file (expected a header series,psi_deg,angle_deg and one marker per line)")
-    head_line, head = numbered[0]
-    header = [h.strip() for h in next(csv.reader([head]))]
-    _no_empty_name(header, ("series", "psi_deg", "angle_deg"), f"{where}:{head_line}")
+    head_line, header = tab.head_line, tab.header
+    _no_empty_name(header, ("series", "psi_deg", "angle_deg"), tab.at(head_line))
     if header[:3] != ["series", "psi_deg", "angle_deg"] or len(header) > 4 or header[3:] not in ([], ["figure"]):
-        raise InputError(f"{where}:{head_line}", f"the header must be series,psi_deg,angle_deg (optionally ,figure), "
-                                                 f"got {','.join(header)[:80]}")
+        raise InputError(tab.at(head_line), f"the header must be series,psi_deg,angle_deg (optionally ,figure), "
+                                            f"got {','.join(header)[:80]}")
     out: dict[str, list[tuple[float, float]]] = {}
-    for line, ln in numbered[1:]:
-        cells = [c.strip() for c in next(csv.reader([ln]))]
+    for line, cells in tab.rows:
         if len(cells) != len(header):
-            raise InputError(f"{where}:{line}", f"expected {len(header)} values, got {len(cells)}")
+            raise InputError(tab.at(line), f"expected {len(header)} values, got {len(cells)}")
         name = cells[0]
         if name not in allowed:
-            raise InputError(f"{where}:{line}", f"series must be one of {', '.join(allowed)}, got '{name[:40]}'")
+            raise InputError(tab.at(line), f"series must be one of {', '.join(allowed)}, got '{name[:40]}'")
         try:
             psi, ang = float(cells[1]), float(cells[2])
         except ValueError:
-            raise InputError(f"{where}:{line}", "psi_deg and angle_deg must be numbers (degrees)") from None
+            raise InputError(tab.at(line), "psi_deg and angle_deg must be numbers (degrees)") from None
         for j, v in ((1, psi), (2, ang)):
             if underflows(cells[j], v):
-                raise InputError(f"{where}:{line}", f"{header[j]}: {cells[j][:40]} is no angle in any unit (it "
+                raise InputError(tab.at(line), f"{header[j]}: {cells[j][:40]} is no angle in any unit (it "
                                                     f"underflows to {v!r} in floating point): expected 0 or degrees")
         if not (math.isfinite(psi) and 0.0 < psi < 90.0):
-            raise InputError(f"{where}:{line}", f"psi_deg must be an impact angle in (0, 90) degrees (0 = head-on), "
+            raise InputError(tab.at(line), f"psi_deg must be an impact angle in (0, 90) degrees (0 = head-on), "
                                                 f"got {cells[1][:40]}")
         if not (math.isfinite(ang) and -90.0 < ang <= 90.0):
-            raise InputError(f"{where}:{line}", f"angle_deg must be an angle in (−90, 90] degrees, got {cells[2][:40]}")
+            raise InputError(tab.at(line), f"angle_deg must be an angle in (−90, 90] degrees, got {cells[2][:40]}")
         out.setdefault(name, []).append((psi, ang))
         if sum(map(len, out.values())) > MAX_MARKERS:
-            raise InputError(f"{where}:{line}", f"more than {MAX_MARKERS} markers")
+            raise InputError(tab.at(line), f"more than {MAX_MARKERS} markers")
     if not out:
-        raise InputError(f"{where}:{head_line}", "a header and no marker: expected one marker per line after it")
+        raise InputError(tab.at(head_line), "a header and no marker: expected one marker per line after it")
     need = [s for s in allowed if s in (allowed if required is None else required) or s in out]
     short = [f"{s} ({len(out.get(s, []))})" for s in need if len(out.get(s, [])) < min_markers]
     if short:

@@ -147,3 +147,45 @@ def test_friction_recovers_the_parameters_without_noise():
     assert fit.point == pytest.approx((0.7, 0.2, 2.0, 0.4, 0.01, 0.5), rel=1e-6, abs=1e-9)
     lo, hi = fit.estimate("f").ci95
     assert lo <= 0.2 + 1e-9 and 0.2 - 1e-9 <= hi and hi - lo < 1e-3
+
+
+@pytest.mark.parametrize("seed", [0, 4, 7])
+def test_imprints_A_interval_ends_where_the_profile_crosses_its_level(seed):
+    """The ends of A's profile interval (``fit_imprints``), checked by a search it does not use: at A fixed, a
+    dense (ν, u) grid (steps 5e-4, x0 solved exactly) and Nelder–Mead from its five best cells. At each end, no
+    point lies below the level RSS_min (1 + t²/dof) (the interval is not too short), and 5 % of its width inside
+    the end one does (not too long). A search only ever finds upper bounds of the minimum: these are the two
+    directions it can prove."""
+    from scipy import optimize, special
+
+    _, cols = _ricochet(seed)
+    x = cols["x"]
+    n = x.size - 1
+    fit = fitting.fit_imprints(x, k=K)
+    xc = x - x.mean()
+    nu = np.arange(0.02, 1.0, 5e-4)
+    u = np.arange(0.0, 1 / (1 + K), 5e-4)
+
+    def rss(A: float, nu_: np.ndarray, u_: np.ndarray) -> np.ndarray:
+        P = fitting.plane.ricochet_ranges_spinless(nu_, A, u_, K, n).cumsum(axis=-1)
+        r = xc - np.concatenate([np.zeros((*P.shape[:-1], 1)), P], axis=-1)
+        r = r - r.mean(axis=-1, keepdims=True)
+        return np.einsum("...j,...j->...", r, r)
+
+    def search(A: float) -> float:
+        grid = np.concatenate([rss(A, nu[i:i + 200, None], u[None, :]) for i in range(0, nu.size, 200)])
+        best = float(grid.min())
+        for cell in np.argsort(grid, axis=None)[:5]:
+            i, j = np.unravel_index(cell, grid.shape)
+            sol = optimize.minimize(lambda p: float(rss(A, np.asarray(p[0]), np.asarray(p[1]))), [nu[i], u[j]],
+                                    method="Nelder-Mead", bounds=[(0.02, 1.0), (0.0, 1 / (1 + K))],
+                                    options={"xatol": 1e-12, "fatol": 1e-20})
+            best = min(best, float(sol.fun))
+        return best
+
+    rss_min = search(fit.point[1])  # the global minimum: A at its estimate
+    level = rss_min * (1 + float(special.stdtrit(fit.dof, 0.975)) ** 2 / fit.dof)
+    lo, hi = fit.estimate("A").ci95
+    for end, inward in ((lo, hi - lo), (hi, lo - hi)):
+        assert search(end) >= level * (1 - 1e-6), ("too short", end)
+        assert search(end + 0.05 * inward) < level, ("too long", end)

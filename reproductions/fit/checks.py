@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from ..series import UNITS, Series, unit_label
+from ..series import UNITS, Series, Table, unit_label
 
 __all__ = [
     "G_HIGH",
@@ -281,27 +281,12 @@ def _unit_jump(s: Series, num: str, den: str, r: np.ndarray, rows: np.ndarray) -
     miss, F, big, small = min(factors)
     if miss > 0.1 * size:
         return None
-    where = _line_runs([s.lines[int(i)] for i in rows[near]])
-    return (f"lines {where}: {s.written[num]}/{s.written[den]} is {math.exp(size):.3g} times "
+    where = s.table.span([s.lines[int(i)] for i in rows[near]])
+    return (f"{where}: {s.written[num]}/{s.written[den]} is {math.exp(size):.3g} times "
             f"{'larger' if float(np.median(dev[near])) > 0 else 'smaller'} than on the other rows, the factor "
             f"between {unit_label(big)} and {unit_label(small)} ({F:.4g}): one of the columns there looks like "
             "another unit")
 
-
-def _line_runs(lines: list[int]) -> str:
-    """'7–9, 12': consecutive line numbers as ranges."""
-    out, start = [], None
-    for i, ln in enumerate(lines):
-        if start is None:
-            start = ln
-        if i + 1 == len(lines) or lines[i + 1] != ln + 1:
-            out.append(f"{start}" if start == ln else f"{start}–{ln}")
-            start = None
-    return ", ".join(out)
-
-
-# --------------------------------------------------------------------------------------------------------------
-# goodness of fit
 
 def chi2_given(chi2: float, dof: int) -> tuple[float, float]:
     """Reduced χ² and the p-value of χ² at least this large, when σ was given."""
@@ -416,7 +401,8 @@ def loo_entries(loo: dict[str, np.ndarray], lines: Sequence[int], quantity: Sequ
     return out
 
 
-def name_outliers(summary: dict[str, Any], lines: Sequence[int], p: np.ndarray, what: str = "trial") -> list[int]:
+def name_outliers(summary: dict[str, Any], lines: Sequence[int], p: np.ndarray, what: str = "trial",
+                  table: Table | None = None) -> list[int]:
     """Warn of the trials (by their file line) outside their leave-one-out interval at the family-wise level
     ``OUTLIER_LEVEL`` (0.05/n each); returns those lines."""
     p = np.asarray(p, dtype=float)
@@ -427,7 +413,8 @@ def name_outliers(summary: dict[str, Any], lines: Sequence[int], p: np.ndarray, 
     bad = [int(lines[i]) for i in np.flatnonzero(np.isfinite(p) & (p < cut))]
     if bad:
         worst = float(np.nanmin(p))
-        warn(summary, Code.OUTLIER, f"{what}(s) on line(s) {', '.join(map(str, bad))} lie outside the interval the "
+        places = table.named(bad) if table is not None else f"line(s) {', '.join(map(str, bad))}"
+        warn(summary, Code.OUTLIER, f"{what}(s) on {places} lie outside the interval the "
                                     f"other {what}s predict for them (leave-one-out, smallest p = {worst:.2g}, below "
                                     f"{cut:.2g} = 5 % over {n} {what}s): a misread or mistyped value, or one "
                                     "the model does not describe (see leave_one_out in fit.json)")

@@ -1,9 +1,9 @@
 """``resal fit``: a user's own CSV in; the paper's coefficients with honest uncertainties out.
 
 Each kind declares its columns (with their dimension, so a header may carry a unit: ``V0_mps``, ``h0_mm``), its
-options, the example file in ``examples/`` and the function that fits. The functions are pure: a path and
-``FitOptions`` in, a ``FitOutcome`` (a JSON-ready summary, figure descriptions, a residual table) out; the command
-line writes and draws.
+options, the example file in ``examples/`` and the function that fits. The functions are pure: a ``series.Table``
+(a CSV file's rows, or a program's arrays) and ``FitOptions`` in, a ``FitOutcome`` (a JSON-ready summary, figure
+descriptions, a residual table) out; the command line writes and draws.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import InputError
-from ..series import header_names, read_text
+from ..series import Table, header_names, read_table
 from .checks import check_g, finish
 from .kinds import KINDS, Kind
 from .kinds.ballball import fit_ballball
@@ -25,7 +25,7 @@ from .kinds.ricochet import fit_clicks, fit_ricochet
 __all__ = ["FITTERS", "KINDS", "FitOptions", "FitOutcome", "Kind", "fit_csv"]
 
 
-FITTERS: dict[str, Callable[[str, Path, FitOptions], FitOutcome]] = {
+FITTERS: dict[str, Callable[[str, Path | Table, FitOptions], FitOutcome]] = {
     "rebound": fit_rebounds, "cushion": fit_rebounds, "drop": fit_rebounds, "pendulum": fit_pendulum,
     "ricochet": fit_ricochet, "bounces": fit_clicks, "ball-ball": fit_ballball, "markers": fit_angle_markers,
 }
@@ -51,28 +51,32 @@ def _fits(kind: str, names: set[str]) -> bool:
     return any(req <= names <= req | opt for req, opt in HEADERS[kind])
 
 
-def other_kinds(kind: str, path: Path) -> tuple[int, list[str]] | None:
+def other_kinds(kind: str, src: Table) -> tuple[int, list[str]] | None:
     """(line, kinds) when the header is exactly that of other kinds and not one of ``kind``'s."""
-    line, found = header_names(path, _KNOWN)
+    line, found = header_names(src, _KNOWN)
     if not found or not found <= _KNOWN or _fits(kind, found):
         return None
     others = [k for k in HEADERS if k != kind and _fits(k, found)]
     return (line, others) if others else None
 
 
-def fit_csv(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
-    """Fit the file at ``path`` with the estimator of ``kind``."""
+def fit_csv(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcome:
+    """Fit the file at ``source`` (or the ``Table`` of a program's arrays) with the estimator of ``kind``: the file
+    is read once, and every reader and check works on its table."""
     if kind not in KINDS:
         raise InputError(f"kind '{kind}'", f"expected one of {', '.join(KINDS)}")
-    if not path.exists() and not path.is_symlink():
-        raise InputError(str(path), "no such file")
-    read_text(path)  # a folder, a FIFO, a device, a file too large or not UTF-8 text: refused before any parsing
-    other = other_kinds(kind, path)
+    if isinstance(source, Table):
+        src = source
+    else:
+        if not source.exists() and not source.is_symlink():
+            raise InputError(str(source), "no such file")
+        src = read_table(source)  # a folder, a FIFO, a device, a file too large or not UTF-8: refused here
+    other = other_kinds(kind, src)
     if other is not None:
         them = " or ".join(f"`resal fit {k}`" for k in other[1])
-        raise InputError(f"{path}:{other[0]}", f"this header is that of {them}, not of `resal fit {kind}`, which "
-                                               f"expects {KINDS[kind].columns}")
-    outcome = FITTERS[kind](kind, path, opts)
+        raise InputError(src.at(other[0]), f"this header is that of {them}, not of `resal fit {kind}`, which "
+                                           f"expects {KINDS[kind].columns}")
+    outcome = FITTERS[kind](kind, src, opts)
     if "g" in KINDS[kind].options and not (kind == "bounces" and opts.h0 is not None):  # with h0, g is fitted
         check_g(outcome.summary, opts.g)
     finish(outcome.summary)

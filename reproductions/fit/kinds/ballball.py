@@ -26,7 +26,7 @@ from scipy import stats
 
 from ...errors import ComputationError, InputError
 from ...results import FigureSpec, layer
-from ...series import Series, header_names, read_series
+from ...series import Series, Table, as_table, read_series
 from ..checks import (
     CHI2_P,
     Code,
@@ -52,11 +52,11 @@ from ..estimators.shots import (
 )
 from ..estimators.trials import bootstrap_many
 from .common import (
-    BOOT_NOTE_UNMEASURED,
     MIN_BOOT_TRIALS,
     FitOptions,
     FitOutcome,
     base_summary,
+    boot_note,
     columns_read,
     estimate_row,
     identifiability,
@@ -111,16 +111,17 @@ class _Stages:
             self.announce(name, total)
 
 
-def fit_ballball(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
+def fit_ballball(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcome:
+    src = as_table(source)  # a CSV file read once, or a program's arrays
     if not (math.isfinite(opts.max_seconds) and opts.max_seconds > 0):
         raise InputError(f"max_seconds {opts.max_seconds:g}", "expected a positive number of seconds")
     deadline = time.monotonic() + opts.max_seconds
     stage = _Stages(opts)
-    s, cols = _read(path)
+    s, cols = _read(src)
     try:
-        return _fit(kind, path, opts, s, cols, deadline, stage)
+        return _fit(kind, src, opts, s, cols, deadline, stage)
     except OverBudget:
-        raise ComputationError(str(path), f"the fit of (f, e) to these shots ran past its time bound of "
+        raise ComputationError(src.where, f"the fit of (f, e) to these shots ran past its time bound of "
                                           f"{opts.max_seconds:g} s ({stage.name}) and was stopped; nothing was "
                                           f"written ({_slow_hint(stage.name)})") from None
 
@@ -133,12 +134,12 @@ def _slow_hint(stage: str) -> str:
             "units, signs and conventions")
 
 
-def _read(path: Path) -> tuple[Series, dict[str, np.ndarray]]:
+def _read(src: Table) -> tuple[Series, dict[str, np.ndarray]]:
     """The file's columns (SI); an outcome column absent from the header is all NaN (not measured)."""
-    s = read_series(path, REQUIRED, optional=OUTCOMES, min_rows=3, positive=("v", "cue_speed", "obj_speed"),
+    s = read_series(src, REQUIRED, optional=OUTCOMES, min_rows=3, positive=("v", "cue_speed", "obj_speed"),
                     dims=DIMS, blank=OUTCOMES, labels=(ID,))
     if not any(c in s for c in OUTCOMES):
-        raise InputError(f"{path}:{header_names(path)[0]}", f"no measured outcome: expected at least one of the "
+        raise InputError(src.at(src.head_line), f"no measured outcome: expected at least one of the "
                                                             f"columns {', '.join(OUTCOMES)} besides v and phi")
     n = s["v"].size
     for c in ("phi", *DIRS):
@@ -230,7 +231,7 @@ def _readings(s: Series, cols: dict[str, np.ndarray]) -> list[tuple[str, str, di
     return out
 
 
-def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.ndarray], deadline: float,
+def _fit(kind: str, src: Table, opts: FitOptions, s: Series, cols: dict[str, np.ndarray], deadline: float,
          stage: _Stages) -> FitOutcome:
     n = s["v"].size
     v, phi = cols["v"], cols["phi"]
@@ -246,7 +247,7 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     measured = " and ".join(kinds)
     method = f"least squares on post-slip {measured}: §VI n°13 impact, then §II n°7 slide" + (
         "; σ given" if given else "; a noise level per kind of measurement, estimated (Student's t)")
-    summary = base_summary(kind, path, n, columns_read(s, DIMS), opts)
+    summary = base_summary(kind, src, n, columns_read(s, DIMS), opts)
     summary["balls"] = _balls_summary(balls, assumed)
     tilt = summary["balls"]["tilt_deg"]
     if abs(math.radians(tilt)) > TILT_WARN:
@@ -333,7 +334,7 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     for c in DIRS:
         err[c] = wrap_angle(err[c])
     summary["fits"] = fits
-    summary["identifiability"] = [identifiability(fit, labels, f"{path.name} ({measured})")]
+    summary["identifiability"] = [identifiability(fit, labels, f"{src.name} ({measured})")]
     if fit.identifiability.rank < 2:
         warn(summary, Code.IDENTIFIABILITY, f"the {measured} measured do not determine both f and e (rank "
                                             f"{fit.identifiability.rank} of 2): see the combination reported")
@@ -371,7 +372,7 @@ def _fit(kind: str, path: Path, opts: FitOptions, s: Series, cols: dict[str, np.
     summary["comparison"] = comp
     summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
                                                       "failed": boot.failed, "kind": "pairs (shots resampled)",
-                                                      "note": BOOT_NOTE_UNMEASURED}
+                                                      "note": boot_note(kind)}
     if boot_stopped is not None:
         summary["bootstrap"] = {"resamples": boot_stopped, "requested": opts.resamples, "seed": opts.seed,
                                 "failed": failed[0], "kind": "pairs (shots resampled)",
@@ -517,7 +518,7 @@ def _loo(summary: dict[str, Any], s: Series, cols: dict[str, np.ndarray], fit: B
         out.append({"line": s.lines[g], "p": _num(res["p"][k]), "quantities": qty})
         lines.append(s.lines[g])
     summary["leave_one_out"] = out
-    bad = name_outliers(summary, lines, res["p"], "shot")
+    bad = name_outliers(summary, lines, res["p"], "shot", table=s.table)
     if bad and any(w["code"] == Code.OUTLIER.value for w in summary["warnings"]):
         # the speeds' noise is taken as relative: a constant noise (video tracking, ± a few cm/s) makes slow balls
         # look like outliers; say so beside the warning

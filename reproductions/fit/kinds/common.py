@@ -5,26 +5,29 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ...errors import InputError
 from ...results import FigureSpec, modern_table
-from ...series import Series, si_unit, unit_label
+from ...series import Series, Table, si_unit, unit_label
+from .. import coverage_table
 from ..estimators.lsq import Estimate, FitResult
 from ..estimators.trials import Bootstrap, Noise
 
 G = 9.80665  # m/s², standard gravity (the user may give their own with --g)
 DEFAULT_RESAMPLES = 1000
 MIN_BOOT_TRIALS = 3  # fewer trials have too few distinct resamples for a bootstrap to say anything
-# measured for the rebound kinds only: 300 seeded series of 8 rebounds, 400 resamples each (percentile intervals are
-# known to be short at small n); the other kinds' notes quote no figure (issue 30: none quotes another kind's)
-BOOT_NOTE = ("a percentile interval, beside the reported one: with few trials it is too short (it covered 83 % of "
-             "synthetic series of 8 rebounds); the 95 % interval is the one to quote")
-BOOT_NOTE_UNMEASURED = ("a percentile interval, beside the reported one: with few trials such intervals are too "
-                        "short, and this kind's coverage of it is not measured; the 95 % interval is the one to quote")
+
+
+def boot_note(kind: str) -> str:
+    """The bootstrap line's note: the percentile interval's coverage as measured for this kind
+    (``fit/coverage.json``, ``resal fit KIND --help``); no other kind's figure is ever quoted."""
+    got = coverage_table.boot_range(kind)
+    measured = (f"it covered {got} of synthetic series at three true values (resal fit {kind} --help)"
+                if got is not None else "its coverage is not measured for this kind")
+    return f"a percentile interval, beside the reported one: {measured}; the 95 % interval is the one to quote"
 
 
 @dataclass(frozen=True)
@@ -182,6 +185,6 @@ def paper_value(label: str, value: float, line: int, interval: tuple[float, floa
             "verdict": f"within your 95 % interval of {what}" if inside else f"outside your 95 % interval of {what}"}
 
 
-def base_summary(kind: str, path: Path, n: int, columns: list[dict[str, Any]], opts: FitOptions) -> dict[str, Any]:
-    return {"kind": kind, "file": str(path), "n": int(n), "columns": columns, "fits": [], "warnings": [],
+def base_summary(kind: str, src: Table, n: int, columns: list[dict[str, Any]], opts: FitOptions) -> dict[str, Any]:
+    return {"kind": kind, "file": src.where, "n": int(n), "columns": columns, "fits": [], "warnings": [],
             "bootstrap": {"resamples": opts.resamples, "seed": opts.seed}}

@@ -9,7 +9,9 @@ at rest; the prediction is §VI n°13's impact on the cloth with law (6) of §I,
 σ, estimated from its scatter with a floor of 0.5° (a reading precision; a series more precise than that is not
 believed); f and e are fitted to each series present and, with both, jointly, with a likelihood-ratio test of
 whether the two series agree. The throw alone fixes f but hardly e (reported as such). A trend of the residuals with
-ψ is tested: a constant friction through the impact (§VI's premise) leaves none.
+ψ is tested: a constant friction through the impact (§VI's premise) leaves none. Other conventions of the angles
+(ψ from the tangent, α1 or the throw from another line, the throw's sign, radians) are refitted and ranked by
+likelihood; one far likelier than the file as read is named with the change to make (``_readings``).
 """
 
 from __future__ import annotations
@@ -20,8 +22,8 @@ from typing import Any
 import numpy as np
 
 from ...results import FigureSpec, layer
-from ...series import read_markers
-from ..checks import Code, warn
+from ...series import Table, as_table, read_markers
+from ..checks import Code, Reading, better_reading, warn
 from ..estimators import markers as mk
 from .common import FitOptions, FitOutcome, base_summary, estimate_row, today
 
@@ -52,26 +54,28 @@ def _rows(key: str, what: str, fit: mk.MarkerFit) -> list[dict[str, Any]]:
     return out
 
 
-def fit_angle_markers(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
+def fit_angle_markers(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcome:
     """The fit of ``resal fit markers`` (module docstring)."""
-    m = read_markers(path, SERIES, required=())
+    src = as_table(source)  # a CSV file read once, or a program's arrays
+    m = read_markers(src, SERIES, required=())
     model = mk.Model(R=opts.R, k=opts.k)
     parts = {s: mk.Part(*m.series[s], s) for s in SERIES if s in m.series}
     n = sum(p.psi.size for p in parts.values())
     columns = [{"column": c, "quantity": q, "unit": u, "note": ""} for c, q, u in (
         ("series", "alpha1 or throw", "1"), ("psi_deg", "impact angle ψ", "deg"), ("angle_deg", "the angle", "deg"))]
-    summary = base_summary(kind, path, n, columns, opts)
+    summary = base_summary(kind, src, n, columns, opts)
     summary["bootstrap"] = None
     psi_max = max(float(p.psi.max()) for p in parts.values())
     if psi_max < RADIANS:  # every impact angle under 1.6°: a file of radians read as degrees, most likely
         warn(summary, Code.UNIT, f"every psi_deg is below {RADIANS:g}° (the largest {psi_max:g}): impact angles in "
                                  "radians written in a column of degrees? The fit reads them as degrees")
     fits = {s: mk.fit_markers([p], model) for s, p in parts.items()}
+    joint = mk.fit_markers(list(parts.values()), model) if len(parts) == 2 else None
+    _other_readings(summary, parts, model, (joint or next(iter(fits.values()))).m2lnl,
+                    radians_said=psi_max < RADIANS)
     for s, f in fits.items():
         summary["fits"] += _rows(s, f"{LABELS[s]} alone", f)
-    joint = None
-    if len(parts) == 2:
-        joint = mk.fit_markers(list(parts.values()), model)
+    if joint is not None:
         summary["fits"] = _rows("joint", "both series", joint) + summary["fits"]
         lr, dof, p = mk.agreement(list(fits.values()), joint)
         summary["agreement"] = {"lr": lr, "dof": dof, "p": p,
@@ -117,6 +121,73 @@ def fit_angle_markers(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     summary["comparison"] = comp
     return FitOutcome(summary, _figures(parts, best, model), ("series", "psi_deg", "angle_deg", "predicted_deg",
                                                               "residual_deg"), tuple(table))
+
+
+# The other readings of a file that its markers can judge by likelihood (issue 30, item 3): conventions an
+# experimenter may have followed instead of this kind's, each refitted by the same profile likelihood
+# (``mk.fit_markers``) and ranked by −2 ln L of the values as written; the likeliest, if far better than the file as
+# read (``checks.CONVENTION_MARGIN``), is named with what to change. Each reading maps (series, ψ, written angle)
+# to (ψ, angle) as this kind reads them; ``jac`` is d(angle as read)/d(written), whose log enters −2 ln L (angles in
+# radians are stretched 57.3 times: without it the stretched residuals would always look worse, or better).
+READINGS_MAX = 400  # markers refitted per reading, spread evenly through a longer file (a minute's worth at most)
+
+
+def _readings() -> tuple[tuple[str, str, tuple[str, ...], Any, float], ...]:
+    """(name, how to change the file, the series it concerns, (ψ, written) → (ψ, angle), jac)."""
+    deg = 180.0 / np.pi
+    return (
+        ("ψ measured from the tangent line (psi_deg holding 90° − ψ)", "write 90 − psi_deg in psi_deg (0 = head-on)",
+         SERIES, lambda psi, a: (90.0 - psi, a), 1.0),
+        ("α1 as the cue ball's direction after the impact measured from the line of centres (ψ + α1)",
+         "write angle_deg − psi_deg for the alpha1 markers (the turn from the cue ball's first direction)",
+         ("alpha1",), lambda psi, a: (psi, a - psi), 1.0),
+        ("the throw signed the other way (positive backward)", "change the sign of the throw markers",
+         ("throw",), lambda psi, a: (psi, -a), 1.0),
+        ("the throw as the object ball's direction measured from the cue ball's first line (ψ − throw)",
+         "write psi_deg − angle_deg for the throw markers (the departure from the line of centres)",
+         ("throw",), lambda psi, a: (psi, psi - a), 1.0),
+        ("the angles (angle_deg) in radians", "write the angles in degrees (× 180/π)",
+         SERIES, lambda psi, a: (psi, a * deg), deg),
+    )
+
+
+def _spread(part: mk.Part, n: int) -> mk.Part:
+    """At most ``n`` markers of a series, spread evenly through it."""
+    if part.psi.size <= n:
+        return part
+    idx = np.unique(np.linspace(0, part.psi.size - 1, n).round().astype(int))
+    return mk.Part(part.psi[idx], part.obs[idx], part.key)
+
+
+def _other_readings(summary: dict[str, Any], parts: dict[str, mk.Part], model: mk.Model, as_read: float, *,
+                    radians_said: bool) -> None:
+    """Warn (``checks.better_reading``) when another reading of ``_readings`` fits the markers far better; the
+    readings' misfits go to ``summary["conventions"]`` (−2 ln L of the values as written, lower is likelier)."""
+    total = sum(p.psi.size for p in parts.values())
+    share = READINGS_MAX / total  # below 1 in a longer file: each series keeps its share (8 markers at least)
+    sub = {s: _spread(p, max(8, int(p.psi.size * share))) for s, p in parts.items()} if share < 1 else parts
+    if sub is not parts:  # the reading as written is refitted on the same markers as the others
+        as_read = mk.fit_markers(list(sub.values()), model).m2lnl
+    out, rows = [], []
+    for name, how, series, change, jac in _readings():
+        if not any(s in sub for s in series) or (radians_said and jac != 1.0):
+            continue
+        moved, ok = [], True
+        for s, p in sub.items():
+            psi, a = change(p.psi, p.obs) if s in series else (p.psi, p.obs)
+            ok = ok and bool(np.all((psi > 0) & (psi < 90) & (a > -90) & (a <= 90)))
+            moved.append(mk.Part(psi, a, s))
+        if not ok:  # some marker read so is no angle of this kind: not this reading
+            continue
+        f = mk.fit_markers(moved, model)
+        n_changed = sum(p.psi.size for p in sub.values() if p.key in series)
+        misfit = f.m2lnl - 2.0 * n_changed * float(np.log(jac))
+        rows.append({"reading": name, "misfit": misfit, "f": f.f, "e": f.e})
+        out.append(Reading(name, how, misfit, f"f = {f.f:.3g}, e = {f.e:.3g}"))
+    summary["conventions"] = {"as_read": as_read, "readings": rows, "markers": sum(p.psi.size for p in sub.values()),
+                              "misfit": "−2 log-likelihood of the markers as written (each series' σ profiled, floor "
+                                        "0.5°), the reading's stretch of the angles included"}
+    better_reading(summary, as_read, out)
 
 
 def _figures(parts: dict[str, mk.Part], best: mk.MarkerFit, model: mk.Model) -> tuple[FigureSpec, ...]:

@@ -20,7 +20,7 @@ from scipy import special, stats
 from ...errors import InputError
 from ...mechanics import impact
 from ...results import FigureSpec, layer
-from ...series import Series, check_pendulum_trials, header_names, read_series
+from ...series import Series, Table, as_table, check_pendulum_trials, header_names, read_series
 from ..checks import (
     CHI2_P,
     PLAUSIBLE,
@@ -36,12 +36,12 @@ from ..checks import (
 from ..estimators.lsq import FitResult, fit_direct_impact, numeric_jacobian
 from ..estimators.trials import bootstrap, with_estimated_scale
 from .common import (
-    BOOT_NOTE_UNMEASURED,
     MIN_BOOT_TRIALS,
     FitOptions,
     FitOutcome,
     G,
     base_summary,
+    boot_note,
     check_sigma,
     columns_read,
     estimate_row,
@@ -56,13 +56,14 @@ LABELS = {"eps": "ε (striking body)", "epsp": "ε′ (struck body)"}
 DIMS_H = {"h0": "length", "h1": "length", "h1p": "length", "M": "mass", "Mp": "mass"}
 
 
-def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
-    heights = "h0" in header_names(path, ("V0", "V1", "V1p", "h0", "h1", "h1p", "M", "Mp"))[1]
+def fit_pendulum(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcome:
+    src = as_table(source)  # a CSV file read once, or a program's arrays
+    heights = "h0" in header_names(src, ("V0", "V1", "V1p", "h0", "h1", "h1p", "M", "Mp"))[1]
     if heights:
-        s = read_series(path, ("h0", "h1", "h1p"), optional=("M", "Mp"), min_rows=2, positive=("h0", "M", "Mp"),
+        s = read_series(src, ("h0", "h1", "h1p"), optional=("M", "Mp"), min_rows=2, positive=("h0", "M", "Mp"),
                         nonnegative=("h1", "h1p"), dims=DIMS_H)
     else:
-        s = read_series(path, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=2, positive=("V0", "M", "Mp"),
+        s = read_series(src, ("V0", "V1", "V1p"), optional=("M", "Mp"), min_rows=2, positive=("V0", "M", "Mp"),
                         dims=DIMS)
     n = len(s.lines)
     if not heights and opts.g != G:
@@ -70,7 +71,7 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                                             "heights into speeds: leave --g out")
     for name, col, opt in (("striking", "M", opts.M), ("struck", "Mp", opts.Mp)):
         if col not in s and opt is None:
-            raise InputError(str(path), f"no {name} mass: give a column {col} (kg, or {col}_g) or --{col} on the "
+            raise InputError(src.where, f"no {name} mass: give a column {col} (kg, or {col}_g) or --{col} on the "
                                         "command line")
         if col in s and opt is not None:
             raise InputError(f"--{col} {opt:g}", f"the file has a column {col} already: leave --{col} out")
@@ -101,7 +102,7 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         s0 = sd(V0)
         res_sigma = np.concatenate([np.hypot(sd(V1), V1 / V0 * s0), np.hypot(sd(V1p), V1p / V0 * s0)])
         speeds = Series({"V0": V0, "V1": V1, "V1p": V1p})
-        speeds.where, speeds.lines = s.where, s.lines
+        speeds.table, speeds.where, speeds.lines = s.table, s.where, s.lines
         check_pendulum_trials(speeds, M, Mp, None if sigma_in is None else float(np.max(res_sigma)))
     else:
         V0, V1, V1p = s["V0"], s["V1"], s["V1p"]
@@ -153,9 +154,9 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                                  method="mean of (V1′ − V1)/V0 per trial", note=f"{k} trial(s)"))
     point = np.asarray(fit.point)
     pred = impact.direct_impact(M, Mp, V0, 0.0, eps=point[0], epsp=point[1])
-    summary = base_summary(kind, path, n, columns_read(s, DIMS_H if heights else DIMS), opts)
+    summary = base_summary(kind, src, n, columns_read(s, DIMS_H if heights else DIMS), opts)
     summary["fits"] = fits
-    summary["identifiability"] = [identifiability(fit, LABELS, path.name)]
+    summary["identifiability"] = [identifiability(fit, LABELS, src.name)]
     summary["noise"] = {"model": "given" if sigma_in is not None else (
         "from the heights, scale estimated" if heights else "constant"), "dof": fit.dof}
     r_all = np.concatenate([pred.V1 - V1, pred.V1p - V1p])
@@ -183,7 +184,7 @@ def fit_pendulum(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                                             "trials with a second mass ratio separate ε and ε′")
     summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
                                                       "failed": boot.failed, "kind": "pairs (trials resampled)",
-                                                      "note": BOOT_NOTE_UNMEASURED}
+                                                      "note": boot_note(kind)}
     headers = ("line", "M (kg)", "M′ (kg)", "V0 (m/s)", "V1 (m/s)", "V1′ (m/s)", "e", "M V0 − M V1 − M′ V1′ (kg·m/s)")
     rows = tuple((s.lines[i], float(M[i]), float(Mp[i]), float(V0[i]), float(V1[i]), float(V1p[i]), float(e_i[i]),
                   float(imbalance[i])) for i in range(n))
@@ -234,7 +235,7 @@ def _check_fit(summary: dict, s: Series, opts: FitOptions, fit: FitResult, data:
     for e in entries:
         e["unit"] = "m/s"
     summary["leave_one_out"] = sorted(entries, key=lambda e: e["line"])
-    name_outliers(summary, lines, loo["p"], "trial")
+    name_outliers(summary, lines, loo["p"], "trial", table=s.table)
     if not sigma_given and fit.dof > 0:
         res = measured - predict(np.asarray(fit.point))
         size = max(float(np.median(np.maximum(np.abs(V1), np.abs(V1p)))), NOISE_FLOOR * float(np.median(V0)))

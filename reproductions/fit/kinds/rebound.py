@@ -23,7 +23,7 @@ from scipy import special, stats
 from ...errors import InputError
 from ...mechanics import impact
 from ...results import FigureSpec, layer
-from ...series import Series, header_names, read_series, unit_label
+from ...series import Series, Table, as_table, header_names, read_series, unit_label
 from ..checks import (
     CHI2_P,
     Code,
@@ -50,12 +50,12 @@ from ..estimators.trials import (
     transform_interval,
 )
 from .common import (
-    BOOT_NOTE,
     MIN_BOOT_TRIALS,
     FitOptions,
     FitOutcome,
     G,
     base_summary,
+    boot_note,
     check_sigma,
     columns_read,
     estimate_row,
@@ -73,11 +73,11 @@ CORIOLIS_RANGE = ("Coriolis: that ratio 'differs little' from 0.55 for speeds up
 MARBLE_RATIO = ("Résal: a ball dropped on marble rises to 2/3 of its height, e = √(2/3) (§I n°5)", 2 / 3, 224)
 
 
-def _which(path: Path, kind: str, speeds: str | None) -> str:
+def _which(src: Table, kind: str, speeds: str | None) -> str:
     """Which set of columns the header holds: signed speeds, unsigned speeds or heights."""
-    line, names = header_names(path, {c for cols in SETS.values() for c in cols})
+    line, names = header_names(src, {c for cols in SETS.values() for c in cols})
     if len(names) > 1 and not {"V0", "V1", "u0", "u1", "h0", "h1"} & names:
-        raise InputError(f"{path}:{line}", "the header names none of the columns of a rebound: expected V0,V1 "
+        raise InputError(src.at(line), "the header names none of the columns of a rebound: expected V0,V1 "
                                            "(signed velocities), u0,u1 (speeds) or h0,h1 (heights), each with an "
                                            "optional unit (V0_cmps, h0_mm); names are case-sensitive")
     if {"h0", "h1"} & names:
@@ -87,15 +87,15 @@ def _which(path: Path, kind: str, speeds: str | None) -> str:
     else:
         found = "signed"
     if kind == "cushion" and found == "heights":
-        raise InputError(str(path), "a cushion rebound is measured by speeds (columns V0,V1 or u0,u1), not heights; "
+        raise InputError(src.where, "a cushion rebound is measured by speeds (columns V0,V1 or u0,u1), not heights; "
                                     "for drop heights use `resal fit drop`")
     if speeds is not None and found == "heights":
-        raise InputError(f"--speeds {speeds}", f"the file gives heights (h0,h1, {path}:{line}): --speeds says how "
+        raise InputError(f"--speeds {speeds}", f"the file gives heights (h0,h1, {src.at(line)}): --speeds says how "
                                                "to read speed columns; leave it out")
     if speeds == "unsigned" and found == "signed":
         found = "unsigned-V"
     if speeds == "signed" and found == "unsigned":
-        raise InputError(str(path), "--speeds signed, but the header has u0,u1 (speeds, unsigned): write V0,V1 "
+        raise InputError(src.where, "--speeds signed, but the header has u0,u1 (speeds, unsigned): write V0,V1 "
                                     "for signed velocities or leave --speeds out")
     return found
 
@@ -122,7 +122,7 @@ EXCESS_SIGMAS = 5.0
 EXCESS_SLACK = 0.08
 
 
-def _read(path: Path, which: str, sigma: float | None = None, sigma_in: float | None = None
+def _read(src: Table, which: str, sigma: float | None = None, sigma_in: float | None = None
           ) -> tuple[Series, np.ndarray, np.ndarray]:
     """x (impact: V0 or h0) and y (|V1| or h1) in SI, with the names as written; every impossible row refused,
     naming the option or header that would read it otherwise. ``sigma``, ``sigma_in``: the outcome's and the
@@ -131,7 +131,7 @@ def _read(path: Path, which: str, sigma: float | None = None, sigma_in: float | 
     signed = which == "signed"
     heights = which == "heights"
     # a signed V0 ≤ 0 is refused below, with the hint of a mirrored axis
-    s = read_series(path, cols, min_rows=2, positive=() if signed else (cols[0],), dims=DIMS)
+    s = read_series(src, cols, min_rows=2, positive=() if signed else (cols[0],), dims=DIMS)
     a, b = s[cols[0]], s[cols[1]]
     wa, wb = s.written[cols[0]], s.written[cols[1]]
     n = a.size
@@ -215,11 +215,12 @@ def _fit(x: np.ndarray, y: np.ndarray, noise: Noise, sigma: float | None, sigma_
     return fit_ratio(x, y, noise, sigma)
 
 
-def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
-    """Fit e (and ε) to the rebounds in ``path``; see the module docstring."""
-    which = _which(path, kind, opts.speeds)
+def fit_rebounds(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcome:
+    """Fit e (and ε) to the rebounds of ``src``; see the module docstring."""
+    src = as_table(source)  # a CSV file read once, or a program's arrays
+    which = _which(src, kind, opts.speeds)
     _check_options(opts, which)
-    s, x, y = _read(path, which, opts.sigma, opts.sigma_in)
+    s, x, y = _read(src, which, opts.sigma, opts.sigma_in)
     heights = which == "heights"
     p = 2 if heights else 1  # y = e^p · x
     in_col, out_col = SETS["heights" if heights else ("unsigned" if which == "unsigned" else "signed")]
@@ -279,7 +280,7 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     flat = _no_scatter(e_i)
     if flat:  # every trial gives the same e: each law fits exactly, and no F test has a scale to judge by
         law, tests = laws[0], [dataclasses.replace(t, statistic=0.0, p=1.0) for t in tests]
-    summary = base_summary(kind, path, n, columns_read(s, DIMS), opts)
+    summary = base_summary(kind, src, n, columns_read(s, DIMS), opts)
     summary["fits"] = fits
     summary["noise"] = _noise_summary(fr, opts, heights, s.unit_text[in_col])
     summary["goodness"] = _goodness(fr, x, y, w=np.asarray(fr.weights))
@@ -293,7 +294,7 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                                         "a law of your data")
     # one parameter, linear in the data: determined by any trial (x > 0); the rank and the singular value say so
     sv = math.sqrt(float(np.sum(fr.weights))) if math.isfinite(float(np.sum(fr.weights))) else math.inf
-    summary["identifiability"] = [{"data": path.name, "parameters": ["e" if p == 1 else "e²"], "rank": 1,
+    summary["identifiability"] = [{"data": src.name, "parameters": ["e" if p == 1 else "e²"], "rank": 1,
                                    "singular_values": [sv if math.isfinite(sv) else None], "condition_number": 1.0,
                                    "null_directions": [], "identified_combinations": []}]
     summary["speed_dependence"] = {
@@ -317,7 +318,7 @@ def fit_rebounds(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     summary["comparison"] = _comparisons(kind, heights, e, e_ci, law, v, tests, lof)
     summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
                                                       "failed": boot.failed, "kind": "pairs (trials resampled)",
-                                                      "note": BOOT_NOTE}
+                                                      "note": boot_note(kind)}
     rows = tuple((s.lines[i], float(x[i]), float(y[i]), float(v[i]), float(e_i[i]), fr.residuals[i]) for i in range(n))
     headers = ("line", "h0 (m)" if heights else "V0 (m/s)", "h1 (m)" if heights else "|V1| (m/s)",
                "impact speed (m/s)", "e", "residual (m)" if heights else "residual (m/s)")
@@ -461,7 +462,7 @@ def _leave_one_out(summary: dict[str, Any], s: Series, fr: RatioFit, x: np.ndarr
         if p_of:
             en["p_by_noise"] = {m: (float(pm[en["line"]]) if math.isfinite(pm[en["line"]]) else None)
                                 for m, pm in p_of.items()}
-    name_outliers(summary, lines, loo["p"], "trial")
+    name_outliers(summary, lines, loo["p"], "trial", table=s.table)
     return entries
 
 
@@ -542,10 +543,10 @@ def _duplicates(summary: dict[str, Any], s: Series, x: np.ndarray, y: np.ndarray
     _, twins = np.unique(np.stack([x, y]), axis=1, return_counts=True)
     if twins.min() < 2 and any(np.ptp(y[inv == k]) > 0 for k in np.flatnonzero(counts > 1)):
         return
-    lines = [str(s.lines[i]) for i in np.flatnonzero(again)]
+    lines = [s.lines[i] for i in np.flatnonzero(again)]
     lof = summary["goodness"]["lack_of_fit"]
     out = " (the lack-of-fit test leaves them out)" if lof is not None and "exact_repeats_left_out" in lof else ""
-    warn(summary, Code.DUPLICATE, f"the rows on line(s) {', '.join(lines)} repeat other rows exactly (impact and "
+    warn(summary, Code.DUPLICATE, f"the rows on {s.table.named(lines)} repeat other rows exactly (impact and "
                                   f"outcome): copied twice? they are counted as separate trials{out}")
 
 

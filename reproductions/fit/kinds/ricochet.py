@@ -16,7 +16,7 @@ import numpy as np
 from ...errors import InputError
 from ...mechanics import plane
 from ...results import FigureSpec, layer
-from ...series import UNITS, Series, check_imprints, read_series, unit_label
+from ...series import UNITS, Series, Table, as_table, check_imprints, read_series, unit_label
 from ..checks import (
     CHI2_P,
     G_HIGH,
@@ -41,10 +41,10 @@ from ..estimators.lsq import (
 )
 from ..estimators.trials import bootstrap
 from .common import (
-    BOOT_NOTE_UNMEASURED,
     FitOptions,
     FitOutcome,
     base_summary,
+    boot_note,
     check_sigma,
     columns_read,
     identifiability,
@@ -65,20 +65,21 @@ NOISE_X = 0.02  # m
 NOISE_T = 0.02  # s
 
 
-def fit_ricochet(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
+def fit_ricochet(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcome:
+    src = as_table(source)  # a CSV file read once, or a program's arrays
     if opts.sigma is not None:
         raise InputError(f"--sigma {opts.sigma:g}", "not used by the ricochet fit, which estimates the noise of "
                                                     "positions and instants from their residuals: leave it out")
-    s = read_series(path, ("x",), optional=("t",), min_rows=1, dims=DIMS)
+    s = read_series(src, ("x",), optional=("t",), min_rows=1, dims=DIMS)
     x, t = s["x"], s.get("t")
-    check_imprints(x, str(path), t, s.lines, s.units.get("x"))
+    check_imprints(x, src.where, t, s.at, s.units.get("x"))
     x = x - x[0]
     t = None if t is None else t - t[0]
     fi = fit_imprints(x, k=opts.k)
     labels = {"nu": "ν", "A": "A = 2a0² sin α0 cos α0/g (m)", "u": "f tan α0", "x0": "x0, the first imprint (m)"}
     fits = rows_from_fit(fi, "positions", labels, "least squares on imprint positions (§III, spinless), origin "
                          "fitted; ν's interval: profile likelihood", units={"A": "m", "x0": "m"})
-    ident = [identifiability(fi, labels, f"{path.name}: positions")]
+    ident = [identifiability(fi, labels, f"{src.name}: positions")]
     if t is not None:
         ft = fit_times(t, g=opts.g, origin="fitted")
         fits += rows_from_fit(ft, "times", {"nu": "ν (acoustic)", "zeta1": "ζ1 (m/s)", "t0": "t0 (s)"},
@@ -96,8 +97,8 @@ def fit_ricochet(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                     if fe.ci95[0] is not None and fe.ci95[1] is not None else "")
                 r["note"] = "; ".join(t_ for t_ in (r["note"], extra) if t_)
         ident.append(identifiability(fj, {"nu": "ν", "f": "f", "a0": "a0", "alpha0": "α0", "x0": "x0", "t0": "t0"},
-                                     f"{path.name}: positions and instants"))
-    summary = base_summary(kind, path, x.size, columns_read(s, DIMS), opts)
+                                     f"{src.name}: positions and instants"))
+    summary = base_summary(kind, src, x.size, columns_read(s, DIMS), opts)
     summary["fits"] = fits
     summary["identifiability"] = ident
     summary["bootstrap"] = None
@@ -120,8 +121,9 @@ def fit_ricochet(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
                             for i in range(x.size)))
 
 
-def fit_clicks(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
-    s = read_series(path, ("t",), min_rows=MIN_CLICKS, dims={"t": "time"})
+def fit_clicks(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcome:
+    src = as_table(source)  # a CSV file read once, or a program's arrays
+    s = read_series(src, ("t",), min_rows=MIN_CLICKS, dims={"t": "time"})
     t = s["t"]
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:
@@ -137,9 +139,9 @@ def fit_clicks(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
         f"σ = {opts.sigma:g} {unit} given" if sigma is not None else "jitter estimated (Student's t)")
     fits = rows_from_fit(fb, "bounces", labels, method, units={"T1": "s", "t0": "s", "g": "m/s²"})
     nu = next(r for r in fits if r["id"] == "bounces.nu")
-    summary = base_summary(kind, path, t.size, columns_read(s, {"t": "time"}), opts)
+    summary = base_summary(kind, src, t.size, columns_read(s, {"t": "time"}), opts)
     summary["fits"] = fits
-    summary["identifiability"] = [identifiability(fb, labels, path.name)]
+    summary["identifiability"] = [identifiability(fb, labels, src.name)]
     if nu["value"] is not None:
         summary["comparison"] = {"paper": [], "today": today(("e_t",), tuple(nu["ci95"]), "ν")}
     tt = t - t[0]
@@ -167,7 +169,7 @@ def fit_clicks(kind: str, path: Path, opts: FitOptions) -> FitOutcome:
     summary["bootstrap"] = None if boot is None else {"resamples": boot.resamples, "seed": boot.seed,
                                                       "failed": boot.failed,
                                                       "kind": "residuals (resampled onto the fitted instants)",
-                                                      "note": BOOT_NOTE_UNMEASURED}
+                                                      "note": boot_note(kind)}
     _check_clicks(summary, s, tt, model, fb, opts.h0, sigma)
     flights = np.diff(t)
     k = np.arange(flights.size)
@@ -237,7 +239,7 @@ def _check_series(summary: dict, s: dict, x: np.ndarray, model: np.ndarray, fi: 
     entries = loo_entries(loo, lines, ["x"] * n, x + s["x"][0], np.ones(n))
     for e in entries:
         e["unit"] = "m"
-    name_outliers(summary, lines, loo["p"], "imprint")
+    name_outliers(summary, lines, loo["p"], "imprint", table=s.table)
     if fi.dof > 0:
         noise_plausible(summary, float(np.sqrt(r @ r / fi.dof)), NOISE_X, "the imprint positions", "m")
     if t is not None:
@@ -258,7 +260,7 @@ def _check_series(summary: dict, s: dict, x: np.ndarray, model: np.ndarray, fi: 
         for e in te:
             e["unit"] = "s"
         entries += te
-        name_outliers(summary, lines, loo_t["p"], "instant")
+        name_outliers(summary, lines, loo_t["p"], "instant", table=s.table)
         if ft.dof > 0:
             noise_plausible(summary, float(np.sqrt(rt @ rt / ft.dof)), NOISE_T, "the impact instants", "s")
     summary["leave_one_out"] = entries
@@ -290,7 +292,7 @@ def _check_clicks(summary: dict, s: dict, tt: np.ndarray, model: np.ndarray, fb:
                                      f"{s.unit_text['t']}?)")
     loo = leave_one_out(r / sig, J / sig, lines, sigma_known=held)
     summary["leave_one_out"] = loo_entries(loo, lines, ["t"] * n, tt + s["t"][0], np.full(n, sig))
-    name_outliers(summary, lines, loo["p"], "click")
+    name_outliers(summary, lines, loo["p"], "click", table=s.table)
     if sigma is None and fb.dof > 0:
         noise_plausible(summary, float(np.sqrt(r @ r / fb.dof)), NOISE_T, "the click instants", "s")
     if h0 is not None:
