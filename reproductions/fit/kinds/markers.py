@@ -110,6 +110,13 @@ def fit_angle_markers(kind: str, source: Path | Table, opts: FitOptions) -> FitO
     summary["residual_trend"] = trend
     summary["noise"] = {"model": "one σ per series, estimated (floor 0.5°)",
                         "sigma_deg": dict(zip(parts, best.sigma, strict=True))}
+    every = [*fits.values(), *([joint] if joint is not None else [])]
+    if any(f.nodes for f in every):
+        summary["model_evaluation"] = {
+            "psi_nodes": max(f.nodes for f in every),
+            "interpolation_error_deg": max(f.interp_error for f in every),
+            "note": f"more than {mk.PSI_NODES} markers: the model was evaluated at evenly spaced impact angles and "
+                    f"interpolated, within {mk.INTERP_TOL:g}° of the model at every marker at the estimate"}
     comp: dict[str, list] = {"paper": [], "today": []}
     if best.f_identified:
         comp["paper"].append({"claim": CORIOLIS_F[0], "value": CORIOLIS_F[1], "line": CORIOLIS_F[2],
