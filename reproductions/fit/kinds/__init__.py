@@ -30,18 +30,18 @@ UNITS_HELP = ("A header may carry a unit: V0_mps, V0_cmps, V0_kmph, h0_mm, h0_cm
 KINDS: dict[str, Kind] = {k.name: k for k in (
     Kind("rebound", "e and ε from rebounds on an immovable mass, §I eq. (9): speeds or heights",
          f"{_SPEEDS}. Or {_HEIGHTS}.", "rebound.csv",
-         ("sigma", "sigma_in", "noise", "speeds", "g", "bootstrap"), per_minute=80000),
+         ("sigma", "sigma_in", "noise", "speeds", "g", "bootstrap"), per_minute=300000),
     Kind("cushion", "e and ε from perpendicular cushion rebounds, beside Coriolis's 0.55 and today's e",
-         f"{_SPEEDS}.", "cushion.csv", ("sigma", "sigma_in", "noise", "speeds", "bootstrap"), per_minute=80000),
+         f"{_SPEEDS}.", "cushion.csv", ("sigma", "sigma_in", "noise", "speeds", "bootstrap"), per_minute=300000),
     Kind("drop", "e and ε from a ball dropped on a slab: drop and rebound heights (or speeds)",
          f"{_HEIGHTS}; or speeds just before and after the impact ({_SPEEDS}).", "drop.csv",
-         ("sigma", "sigma_in", "noise", "speeds", "g", "bootstrap"), per_minute=80000),
+         ("sigma", "sigma_in", "noise", "speeds", "g", "bootstrap"), per_minute=300000),
     Kind("pendulum", "ε, ε′ and e from two-pendulum impacts, §I eqs (8); momentum checked per trial",
          "V0,V1,V1p: signed velocities (m/s) of the striker before the impact and of striker and struck body "
          "after it (the struck body at rest before); or h0,h1,h1p: the striker's release height and the rise heights "
          "of both bodies after the impact (m; the speeds at the bottom are √(2gh), and the striker's direction after "
          "the impact is taken from momentum, said per trial); M,Mp: the masses (kg) per trial, or --M and --Mp.",
-         "pendulum.csv", ("sigma", "M", "Mp", "g", "bootstrap"), per_minute=12000),
+         "pendulum.csv", ("sigma", "M", "Mp", "g", "bootstrap"), per_minute=1000000),
     Kind("ricochet", "ν (and f where identifiable) from ricochet imprints, §III n°8-10",
          "x: imprint positions along the plane (m), increasing; t (optional): their impact instants (s).",
          "ricochet.csv", ("R", "k", "g")),
@@ -56,7 +56,7 @@ KINDS: dict[str, Kind] = {k.name: k for k in (
          "fix f and e, as a published table of speeds and cut angles gives them), and an empty cell means not "
          "measured. The balls are taken equal unless --M and --Mp (and --Rp, --kp) say otherwise. An optional "
          "column shot labels each shot (text).", "ball-ball.csv",
-         ("M", "Mp", "R", "Rp", "k", "kp", "sigma_speed", "sigma_dir", "bootstrap", "max_seconds"), per_minute=20000),
+         ("M", "Mp", "R", "Rp", "k", "kp", "sigma_speed", "sigma_dir", "bootstrap", "max_seconds"), per_minute=50000),
     Kind("markers", "ball–ball friction f and e from angle markers of oblique collisions against ψ, §VI n°13",
          "series: alpha1 (the cue ball's turn at the impact, between its directions before and after) or throw "
          "(the object ball's departure from the line of centres, positive forward); psi_deg: the impact angle "

@@ -11,6 +11,7 @@ predicted from the other trials (leave-one-out), and the masses' and speeds' pla
 
 from __future__ import annotations
 
+import itertools
 import math
 from pathlib import Path
 
@@ -136,9 +137,8 @@ def fit_pendulum(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcom
                 r["ci95_bootstrap"] = list(boot.ci95[0])
     # Newton's e: per trial, model-free; per mass ratio, its mean with a Student-t interval
     e_i = (V1p - V1) / V0
-    ratio = np.round(Mp / M, 12)
-    for r in np.unique(ratio):
-        m = ratio == r
+    ratio, groups = _ratio_groups(Mp / M)
+    for r, m in groups:
         k = int(m.sum())
         mean = float(e_i[m].mean())
         if k > 1:
@@ -150,8 +150,9 @@ def fit_pendulum(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcom
             ci: tuple[float | None, float | None] = (mean - q * se, mean + q * se)
         else:
             se, ci = None, (None, None)
+        spread = "" if np.ptp(ratio[m]) == 0 else f"; M′/M from {ratio[m].min():.6g} to {ratio[m].max():.6g}"
         fits.append(estimate_row(f"e.ratio{r:g}", f"e (Newton, M′/M = {r:.4g})", mean, se, ci,
-                                 method="mean of (V1′ − V1)/V0 per trial", note=f"{k} trial(s)"))
+                                 method="mean of (V1′ − V1)/V0 per trial", note=f"{k} trial(s){spread}"))
     point = np.asarray(fit.point)
     pred = impact.direct_impact(M, Mp, V0, 0.0, eps=point[0], epsp=point[1])
     summary = base_summary(kind, src, n, columns_read(s, DIMS_H if heights else DIMS), opts)
@@ -190,8 +191,7 @@ def fit_pendulum(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcom
                   float(imbalance[i])) for i in range(n))
     grid = np.linspace(0.0, float(V0.max()) * 1.05, 50)
     figs = []
-    for r in np.unique(ratio):
-        m = ratio == r
+    for r, m in groups:
         g = impact.direct_impact(float(M[m][0]), float(Mp[m][0]), grid, 0.0, eps=point[0], epsp=point[1])
         figs += [layer("points", V0[m], V1[m], color="C0", label=f"V1, M′/M = {r:.3g}"),
                  layer("points", V0[m], V1p[m], color="C1", marker="s", label=f"V1′, M′/M = {r:.3g}"),
@@ -204,6 +204,28 @@ def fit_pendulum(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcom
                       layer("points", V0, pred.V1p - V1p, color="C1", marker="s", label="V1′"),
                       layer("line", [0.0, float(V0.max())], [0.0, 0.0], color="0.4", style=":")))
     return FitOutcome(summary, (fig, res), headers, rows)
+
+
+RATIO_GAP = 0.01  # a relative gap between sorted mass ratios that starts a new group (masses weighed to ~0.1 %)
+
+
+def _ratio_groups(ratio: np.ndarray) -> tuple[np.ndarray, list[tuple[float, np.ndarray]]]:
+    """The trials grouped by mass ratio for Newton's e and the figure: sorted ratios closer than ``RATIO_GAP``
+    (relative) to their neighbour are one group (masses weighed trial by trial differ in their last digits; one
+    group per trial would print a row and draw a curve per trial). A group of one exact ratio is named by it (12
+    digits), another by its median to 4 digits, its range said in the row's note. The fit itself takes each trial's
+    masses as given."""
+    exact = np.round(ratio, 12)
+    order = np.argsort(exact, kind="stable")
+    srt = exact[order]
+    starts = np.concatenate([[0], np.flatnonzero(np.diff(srt) > RATIO_GAP * srt[1:]) + 1, [srt.size]])
+    groups = []
+    for a, b in itertools.pairwise(starts.tolist()):
+        m = np.zeros(exact.size, dtype=bool)
+        m[order[a:b]] = True
+        one = srt[a] == srt[b - 1]
+        groups.append((float(srt[a]) if one else float(f"{float(np.median(srt[a:b])):.4g}"), m))
+    return exact, groups
 
 
 NOISE_REL_LIMIT = 0.25  # a scatter of the speeds after the impact beyond 25 % of their size is no measurement
