@@ -37,7 +37,7 @@ def bench(
 
     The work-precision benchmark: scenes per second and the error where a path declares itself exact, for every
     path of every model, and auto's Pareto verdict (wrong if another exact path is faster and as accurate).
-    `fit` times `resal fit` on large files of each kind (1000 rows with --quick; 1000 and 10 000 without; a fresh
+    `fit` times `resal fit` on large files of each kind (100 rows with --quick; 1000 and 10 000 without; a fresh
     process each, with its peak memory); the full benchmark includes it. Without --quick it takes minutes.
     """
     from rich.progress import Progress

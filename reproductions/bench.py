@@ -302,7 +302,7 @@ def make_all_times(repeat: int = MAKE_ALL_REPEAT, progress: Callable[[str], None
 
 def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str], None] | None = None) -> dict:
     """The benchmark report (``bench.json``): per model its paths and Pareto verdict, and the machine. ``fit`` among
-    ``models`` (alone: ``resal bench fit``) times ``resal fit`` on large files (``fitbench``): at 1000 rows with
+    ``models`` (alone: ``resal bench fit``) times ``resal fit`` on large files (``fitbench``): at 100 rows with
     ``quick``, 1000 and 10 000 rows otherwise; the full benchmark (no names, not quick) includes it."""
     cfg = QUICK if quick else FULL
     fits = FITS in models or (not models and not quick)

@@ -95,7 +95,7 @@ def run(sizes: Sequence[int] = (1000, 10_000), kinds: Sequence[str] = KINDS,
 
 
 def sizes(quick: bool) -> tuple[int, ...]:
-    return (1000,) if quick else (1000, 10_000)
+    return (100,) if quick else (1000, 10_000)
 
 
 def steps(quick: bool) -> int:

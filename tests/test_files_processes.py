@@ -158,23 +158,21 @@ def _without_provenance(summary: bytes) -> str:
     return json.dumps(s, indent=2, ensure_ascii=False)
 
 
-def test_two_runs_write_identical_bytes_whatever_the_process_layout(tmp_path):
+def test_two_runs_write_identical_bytes_whatever_the_process_layout(tmp_path, reproduced_all):
     """Figures included. The one exclusion: summary.json's provenance block (git commit, whether the checkout is
     dirty, the code's digest: they can change between two runs while someone edits the tree), and so
-    edition-digest.json, a digest of the summaries; every other byte must match. The two
-    runs also differ in SOURCE_DATE_EPOCH, which matplotlib would otherwise write into every PDF."""
-    runs = {}
-    for jobs, epoch in (("1", None), ("2", "86400")):
-        env = {k: v for k, v in os.environ.items() if k != "SOURCE_DATE_EPOCH"}
-        if epoch:
-            env["SOURCE_DATE_EPOCH"] = epoch
-        out = tmp_path / f"jobs-{jobs}"
-        proc = _resal("reproduce", "--all", "--jobs", jobs, "--out", str(out), env=env, stdout=subprocess.DEVNULL,
-                      stderr=subprocess.PIPE, text=True)
-        _, err = proc.communicate(timeout=600)
-        assert proc.returncode == 0, err
-        runs[jobs] = _snapshot(out)
-    a, b = runs["1"], runs["2"]
+    edition-digest.json, a digest of the summaries; every other byte must match. The two runs: the session's
+    (``reproduced_all``: in the test process, one worker per core) and a command's in another process, with one
+    worker (two where the machine has a single core, so that the layouts always differ) and another
+    SOURCE_DATE_EPOCH, which matplotlib would otherwise write into every PDF."""
+    jobs = "2" if (os.cpu_count() or 1) == 1 else "1"
+    env = {k: v for k, v in os.environ.items() if k != "SOURCE_DATE_EPOCH"} | {"SOURCE_DATE_EPOCH": "86400"}
+    out = tmp_path / f"jobs-{jobs}"
+    proc = _resal("reproduce", "--all", "--jobs", jobs, "--out", str(out), env=env, stdout=subprocess.DEVNULL,
+                  stderr=subprocess.PIPE, text=True)
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode == 0, err
+    a, b = _snapshot(out), _snapshot(reproduced_all[0])
     assert sorted(a) == sorted(b)
     suffixes = {Path(k).suffix for k, v in a.items() if v is not None}
     assert {".png", ".pdf", ".csv", ".md", ".tex", ".json"} <= suffixes

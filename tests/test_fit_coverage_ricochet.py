@@ -104,7 +104,7 @@ def test_imprints_nu_interval_covers_95_percent():
     hits, hits_old = [], []
     for seed in range(SEEDS):
         p, cols = _ricochet(seed)
-        hits.append(_covers(fitting.fit_imprints(cols["x"], k=K).estimate("nu"), p["nu"]))
+        hits.append(_covers(fitting.fit_imprints(cols["x"], k=K, profiles=("nu",)).estimate("nu"), p["nu"]))
         hits_old.append(_covers(fitting.fit_positions(cols["x"], k=K).estimate("nu"), p["nu"]))
     _in_band(hits)
     assert np.mean(hits_old) < BAND[0]
@@ -189,3 +189,17 @@ def test_imprints_A_interval_ends_where_the_profile_crosses_its_level(seed):
     for end, inward in ((lo, hi - lo), (hi, lo - hi)):
         assert search(end) >= level * (1 - 1e-6), ("too short", end)
         assert search(end + 0.05 * inward) < level, ("too long", end)
+
+
+def test_imprints_profiles_named_alone_change_nothing_else():
+    """``profiles=("nu",)`` (the coverage test above) gives ν's interval of the full fit, and A's and u's as Wald's."""
+    _, cols = _ricochet(3)
+    full = fitting.fit_imprints(cols["x"], k=K)
+    nu_only = fitting.fit_imprints(cols["x"], k=K, profiles=("nu",))
+    wald = fitting.fit_imprints(cols["x"], k=K, profiles=())
+    assert nu_only.estimate("nu").ci95 == full.estimate("nu").ci95
+    for name in ("A", "u", "x0"):
+        assert nu_only.estimate(name).ci95 == wald.estimate(name).ci95
+    assert full.estimate("A").ci95 != wald.estimate("A").ci95
+    with pytest.raises(ValueError, match="profiles"):
+        fitting.fit_imprints(cols["x"], k=K, profiles=("f",))

@@ -41,7 +41,7 @@ def test_one_fits_in_a_fresh_process_and_reports_its_memory() -> None:
 
 def test_sizes_beyond_a_minute_are_not_run() -> None:
     assert fitbench.run(sizes=(10**9,), kinds=("rebound",)) == []
-    assert fitbench.steps(True) == len(fitbench.KINDS)  # every kind fits 1000 rows within a minute
+    assert fitbench.steps(True) == len(fitbench.KINDS)  # every kind fits 100 rows within a minute
     assert fitbench.steps(False) == sum(1 + (KINDS[k].per_minute >= 10_000) for k in fitbench.KINDS)
 
 

@@ -839,7 +839,8 @@ def _profiled_rss(shape: np.ndarray, xc: np.ndarray) -> np.ndarray:
     return np.where(sx > 0, xc @ xc - sx * sx / ss, np.inf)
 
 
-def fit_imprints(x: np.ndarray, *, k: float, sigma: float | None = None, interval: str = "profile") -> FitResult:
+def fit_imprints(x: np.ndarray, *, k: float, sigma: float | None = None, interval: str = "profile",
+                 profiles: Sequence[str] = ("nu", "A", "u")) -> FitResult:
     """Fit (ν, A, u, x0) of the spinless ricochet closed form (§III n°9, ``plane.ricochet_ranges_spinless``) to
     imprint positions x_0 … x_n, the origin x0 fitted: x_i = x0 + P_0 + … + P_{i−1} (i = 0 … n).
 
@@ -848,7 +849,9 @@ def fit_imprints(x: np.ndarray, *, k: float, sigma: float | None = None, interva
     8 imprints. Here the 95 % interval of ν is, by default, the profile-likelihood set: for each ν, A and x0 are
     solved exactly and u is minimised over a grid then polished; {ν : RSS(ν) ≤ RSS_min(1 + t²/dof)} (σ estimated
     from the residuals, dof = n + 1 − 4) or RSS_min + σ²z² (``sigma`` given, m), its hull reported.
-    ``interval="wald"`` gives ± q·stderr. The other parameters' intervals are Wald's.
+    ``interval="wald"`` gives ± q·stderr. A and u get profile-likelihood sets too (A's: ``_imprint_A_set``), x0
+    a Wald interval; ``profiles`` names the parameters whose profile sets are computed (the others keep Wald's: A's
+    set costs four fifths of the fit, so a caller that reads only ν may leave it out).
     """
     x = np.asarray(x, dtype=float)
     n = x.size - 1
@@ -903,16 +906,21 @@ def fit_imprints(x: np.ndarray, *, k: float, sigma: float | None = None, interva
     level = _profile_level(rss_min, fit.dof, sigma)
     if level is None:
         return fit
-    e, eu = fit.estimates[0], fit.estimates[2]
-    ci = _profile_set(IMPRINT_GRID_NU, prof, level, profile, e.value, 1e-3, 1.0)
-    est = dataclasses.replace(e, ci95=ci, clipped=ci[0] <= 1e-3 or ci[1] >= 1.0)
-    # u: beyond 1/(1 + k) the slip stops at the first impact and every u gives the same ranges, so a set that
-    # reaches the grid's last u runs on to the box's bound (5), reported clipped
-    ci_u = _profile_set(u_g, np.min(rss, axis=0), level, profile_u, eu.value, 0.0, 5.0)
-    est_u = dataclasses.replace(eu, ci95=ci_u, clipped=ci_u[0] <= 0.0 or ci_u[1] >= 5.0)
-    eA = fit.estimates[1]
-    ci_A = _imprint_A_set(shape, xc, u_g, k, n, level, eA.value)
-    est_A = dataclasses.replace(eA, ci95=ci_A, clipped=ci_A[0] <= 1e-6 or ci_A[1] >= 100.0)
+    unknown = set(profiles) - {"nu", "A", "u"}
+    if unknown:
+        raise ValueError(f"profiles must name nu, A or u, got {sorted(unknown)}")
+    est, est_A, est_u = fit.estimates[:3]
+    if "nu" in profiles:
+        ci = _profile_set(IMPRINT_GRID_NU, prof, level, profile, est.value, 1e-3, 1.0)
+        est = dataclasses.replace(est, ci95=ci, clipped=ci[0] <= 1e-3 or ci[1] >= 1.0)
+    if "u" in profiles:
+        # u: beyond 1/(1 + k) the slip stops at the first impact and every u gives the same ranges, so a set that
+        # reaches the grid's last u runs on to the box's bound (5), reported clipped
+        ci_u = _profile_set(u_g, np.min(rss, axis=0), level, profile_u, est_u.value, 0.0, 5.0)
+        est_u = dataclasses.replace(est_u, ci95=ci_u, clipped=ci_u[0] <= 0.0 or ci_u[1] >= 5.0)
+    if "A" in profiles:
+        ci_A = _imprint_A_set(shape, xc, u_g, k, n, level, est_A.value)
+        est_A = dataclasses.replace(est_A, ci95=ci_A, clipped=ci_A[0] <= 1e-6 or ci_A[1] >= 100.0)
     return dataclasses.replace(fit, estimates=(est, est_A, est_u, *fit.estimates[3:]))
 
 
