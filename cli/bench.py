@@ -46,9 +46,9 @@ def bench(
     from reproductions.mechanics import registry
 
     names = _known_models(models, extra=(bench_mod.FITS,))
-    models_run = [m for m in names if m != bench_mod.FITS] or ([] if names else list(registry.MODELS))
+    models_run, fits = bench_mod.selection(names, quick)
     total = sum(len(registry.MODELS[m].paths) + 1 for m in models_run)
-    if bench_mod.FITS in names or (not names and not quick):
+    if fits:
         from reproductions.fitbench import steps
 
         total += steps(quick)

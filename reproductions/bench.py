@@ -30,7 +30,7 @@ import numpy as np
 
 from .mechanics import paths, reference, registry
 
-__all__ = ["FULL", "QUICK", "run", "write"]
+__all__ = ["FITS", "FULL", "QUICK", "run", "selection", "write"]
 
 FULL = {"n_fast": 100_000, "n_ode": 40, "repeat": 3, "solvers": ("RK45", "DOP853", "Radau", "LSODA"),
         "rtols": (1e-6, 1e-9, 1e-12)}
@@ -300,13 +300,19 @@ def make_all_times(repeat: int = MAKE_ALL_REPEAT, progress: Callable[[str], None
     return out
 
 
+def selection(models: Sequence[str], quick: bool) -> tuple[list[str], bool]:
+    """The models ``run`` times for the names given (none: every model) and whether it times the fits (``FITS``
+    named, or the full benchmark: no names, not quick)."""
+    chosen = [x for x in models if x != FITS] or ([] if models else list(registry.MODELS))
+    return chosen, FITS in models or (not models and not quick)
+
+
 def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str], None] | None = None) -> dict:
     """The benchmark report (``bench.json``): per model its paths and Pareto verdict, and the machine. ``fit`` among
     ``models`` (alone: ``resal bench fit``) times ``resal fit`` on large files (``fitbench``): at 100 rows with
     ``quick``, 1000 and 10 000 rows otherwise; the full benchmark (no names, not quick) includes it."""
     cfg = QUICK if quick else FULL
-    fits = FITS in models or (not models and not quick)
-    chosen = [x for x in models if x != FITS] or ([] if models else list(registry.MODELS))
+    chosen, fits = selection(models, quick)
     unknown = [x for x in chosen if x not in registry.MODELS]
     if unknown:
         raise KeyError(f"unknown model(s) {', '.join(unknown)} (expected some of: {', '.join(registry.MODELS)}, "

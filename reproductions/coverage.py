@@ -61,27 +61,23 @@ def _csv(header: Sequence[str], *cols: Any) -> str:
                                              for r in rows)
 
 
-def _eps(e: float) -> float:
-    return impact.eps_from_newton(e)
-
-
 # ---- the kinds' synthetic series -----------------------------------------------------------------------------------
 def _rebound(rng: np.random.Generator, p: dict[str, float]) -> tuple[str, dict[str, float]]:
     u0 = rng.uniform(0.5, 4.0, 8)
     u1 = p["e"] * u0 + 0.02 * rng.standard_normal(8)
-    return _csv(("u0_mps", "u1_mps"), u0, u1), {"e": p["e"], "eps": _eps(p["e"])}
+    return _csv(("u0_mps", "u1_mps"), u0, u1), {"e": p["e"], "eps": impact.eps_from_newton(p["e"])}
 
 
 def _cushion(rng: np.random.Generator, p: dict[str, float]) -> tuple[str, dict[str, float]]:
     v0 = rng.uniform(0.5, 3.5, 10)
     v1 = -p["e"] * v0 * (1 + 0.02 * rng.standard_normal(10))
-    return _csv(("V0_cmps", "V1_cmps"), 100 * v0, 100 * v1), {"e": p["e"], "eps": _eps(p["e"])}
+    return _csv(("V0_cmps", "V1_cmps"), 100 * v0, 100 * v1), {"e": p["e"], "eps": impact.eps_from_newton(p["e"])}
 
 
 def _drop(rng: np.random.Generator, p: dict[str, float]) -> tuple[str, dict[str, float]]:
     h0 = rng.uniform(200.0, 1000.0, 8)
     h1 = p["e"] ** 2 * h0 + 2.0 * rng.standard_normal(8)
-    return _csv(("h0_mm", "h1_mm"), h0, h1), {"e": p["e"], "eps": _eps(p["e"])}
+    return _csv(("h0_mm", "h1_mm"), h0, h1), {"e": p["e"], "eps": impact.eps_from_newton(p["e"])}
 
 
 PENDULUM_M = (np.repeat([0.6, 0.2], 6), np.full(12, 0.2))  # striker, struck (kg): two mass ratios identify ε and ε′

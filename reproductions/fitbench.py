@@ -32,12 +32,12 @@ def replicate(kind: str, n: int) -> str:
     """The kind's example file's rows repeated to ``n`` rows, each number times (1 + 1e-4·U(−1, 1))."""
     from .fit.kinds import KINDS as FIT_KINDS
     from .locate import examples_dir
+    from .series import read_table
 
-    text = (examples_dir() / FIT_KINDS[kind].example).read_text(encoding="utf-8")
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")]
-    rows = [ln.split(",") for ln in lines[1:]]
+    tab = read_table(examples_dir() / FIT_KINDS[kind].example)
+    rows = [cells for _, cells in tab.rows]
     rng = random.Random(SEED)
-    out = [lines[0]]
+    out = [tab.head]
     for i in range(n):
         cells = []
         for c in rows[i % len(rows)]:

@@ -401,8 +401,8 @@ def loo_entries(loo: dict[str, np.ndarray], lines: Sequence[int], quantity: Sequ
     return out
 
 
-def name_outliers(summary: dict[str, Any], lines: Sequence[int], p: np.ndarray, what: str = "trial",
-                  table: Table | None = None) -> list[int]:
+def name_outliers(summary: dict[str, Any], lines: Sequence[int], p: np.ndarray, what: str,
+                  table: Table) -> list[int]:
     """Warn of the trials (by their file line) outside their leave-one-out interval at the family-wise level
     ``OUTLIER_LEVEL`` (0.05/n each); returns those lines."""
     p = np.asarray(p, dtype=float)
@@ -413,8 +413,7 @@ def name_outliers(summary: dict[str, Any], lines: Sequence[int], p: np.ndarray, 
     bad = [int(lines[i]) for i in np.flatnonzero(np.isfinite(p) & (p < cut))]
     if bad:
         worst = float(np.nanmin(p))
-        places = table.named(bad) if table is not None else f"line(s) {', '.join(map(str, bad))}"
-        warn(summary, Code.OUTLIER, f"{what}(s) on {places} lie outside the interval the "
+        warn(summary, Code.OUTLIER, f"{what}(s) on {table.named(bad)} lie outside the interval the "
                                     f"other {what}s predict for them (leave-one-out, smallest p = {worst:.2g}, below "
                                     f"{cut:.2g} = 5 % over {n} {what}s): a misread or mistyped value, or one "
                                     "the model does not describe (see leave_one_out in fit.json)")

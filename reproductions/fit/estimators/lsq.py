@@ -703,9 +703,11 @@ def _profile_set(grid: np.ndarray, prof: np.ndarray, level: float, refine: Calla
         best = float(grid[int(np.argmin(prof))])
 
     def end(a: float, beyond: np.ndarray, bound: float) -> float:  # a inside; beyond: the grid outward, in order
-        for b in (*beyond.tolist(), bound):
+        for i, b in enumerate((*beyond.tolist(), bound)):
             if refine(b) > level:
-                if refine(a) > level:  # the optimum sits on the edge of the grid's set (ν = 1): no crossing between
+                # the optimum on the edge of the grid's set (ν = 1): no crossing between (a point the walk reached
+                # is inside by ``refine`` already: only the first a is asked)
+                if i == 0 and refine(a) > level:
                     return a
                 return float(optimize.brentq(lambda v: refine(v) - level, min(a, b), max(a, b), xtol=1e-13,
                                              rtol=1e-11))
@@ -882,25 +884,11 @@ def fit_imprints(x: np.ndarray, *, k: float, sigma: float | None = None, interva
     if interval == "wald":
         return fit
 
-    def profile(v: float) -> float:
-        r = _profiled_rss(_imprint_shapes(v, u_g, k, n), xc)
-        j = int(np.argmin(r))
-        a, b = u_g[max(j - 1, 0)], u_g[min(j + 1, u_g.size - 1)]
-        if not np.isfinite(r[j]) or a == b:
-            return float(r[j])
-        sol = optimize.minimize_scalar(lambda w: float(_profiled_rss(_imprint_shapes(v, w, k, n), xc)),
-                                       bounds=(a, b), method="bounded", options={"xatol": 1e-12})
-        return float(min(sol.fun, r[j]))
+    def profile(v: float) -> float:  # ν fixed, u minimised
+        return _grid_polished_min(u_g, lambda w: _profiled_rss(_imprint_shapes(v, w, k, n), xc))
 
-    def profile_u(w: float) -> float:  # the same with u fixed and ν minimised: grid, then a bounded polish
-        r = _profiled_rss(_imprint_shapes(IMPRINT_GRID_NU, w, k, n), xc)
-        j = int(np.argmin(r))
-        a, b = IMPRINT_GRID_NU[max(j - 1, 0)], IMPRINT_GRID_NU[min(j + 1, IMPRINT_GRID_NU.size - 1)]
-        if not np.isfinite(r[j]):
-            return float(r[j])
-        sol = optimize.minimize_scalar(lambda v: float(_profiled_rss(_imprint_shapes(v, w, k, n), xc)),
-                                       bounds=(a, b), method="bounded", options={"xatol": 1e-12})
-        return float(min(sol.fun, r[j]))
+    def profile_u(w: float) -> float:  # u fixed, ν minimised
+        return _grid_polished_min(IMPRINT_GRID_NU, lambda v: _profiled_rss(_imprint_shapes(v, w, k, n), xc))
 
     rss_min = min(profile(fit.point[0]), float(np.sum(res(np.asarray(fit.point)) ** 2)))
     level = _profile_level(rss_min, fit.dof, sigma)
@@ -922,6 +910,19 @@ def fit_imprints(x: np.ndarray, *, k: float, sigma: float | None = None, interva
         ci_A = _imprint_A_set(shape, xc, u_g, k, n, level, est_A.value)
         est_A = dataclasses.replace(est_A, ci95=ci_A, clipped=ci_A[0] <= 1e-6 or ci_A[1] >= 100.0)
     return dataclasses.replace(fit, estimates=(est, est_A, est_u, *fit.estimates[3:]))
+
+
+def _grid_polished_min(grid: np.ndarray, rss: Callable[..., np.ndarray]) -> float:
+    """min of ``rss`` (vectorised over its argument) over one parameter: on ``grid``, then polished by a bounded
+    scalar minimisation between the best point's neighbours (never above the grid's best)."""
+    r = rss(grid)
+    j = int(np.argmin(r))
+    a, b = grid[max(j - 1, 0)], grid[min(j + 1, grid.size - 1)]
+    if not np.isfinite(r[j]) or a == b:
+        return float(r[j])
+    sol = optimize.minimize_scalar(lambda v: float(rss(v)), bounds=(a, b), method="bounded",
+                                   options={"xatol": 1e-12})
+    return float(min(sol.fun, r[j]))
 
 
 A_RIDGE_MOVES = 40  # bound on the moves of the polish box along the ridge of (ν, u) (``_imprint_A_set``)

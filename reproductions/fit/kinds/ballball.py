@@ -518,7 +518,7 @@ def _loo(summary: dict[str, Any], s: Series, cols: dict[str, np.ndarray], fit: B
         out.append({"line": s.lines[g], "p": _num(res["p"][k]), "quantities": qty})
         lines.append(s.lines[g])
     summary["leave_one_out"] = out
-    bad = name_outliers(summary, lines, res["p"], "shot", table=s.table)
+    bad = name_outliers(summary, lines, res["p"], "shot", s.table)
     if bad and any(w["code"] == Code.OUTLIER.value for w in summary["warnings"]):
         # the speeds' noise is taken as relative: a constant noise (video tracking, ± a few cm/s) makes slow balls
         # look like outliers; say so beside the warning

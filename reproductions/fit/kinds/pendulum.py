@@ -257,7 +257,7 @@ def _check_fit(summary: dict, s: Series, opts: FitOptions, fit: FitResult, data:
     for e in entries:
         e["unit"] = "m/s"
     summary["leave_one_out"] = sorted(entries, key=lambda e: e["line"])
-    name_outliers(summary, lines, loo["p"], "trial", table=s.table)
+    name_outliers(summary, lines, loo["p"], "trial", s.table)
     if not sigma_given and fit.dof > 0:
         res = measured - predict(np.asarray(fit.point))
         size = max(float(np.median(np.maximum(np.abs(V1), np.abs(V1p)))), NOISE_FLOOR * float(np.median(V0)))

@@ -462,7 +462,7 @@ def _leave_one_out(summary: dict[str, Any], s: Series, fr: RatioFit, x: np.ndarr
         if p_of:
             en["p_by_noise"] = {m: (float(pm[en["line"]]) if math.isfinite(pm[en["line"]]) else None)
                                 for m, pm in p_of.items()}
-    name_outliers(summary, lines, loo["p"], "trial", table=s.table)
+    name_outliers(summary, lines, loo["p"], "trial", s.table)
     return entries
 
 

@@ -239,7 +239,7 @@ def _check_series(summary: dict, s: dict, x: np.ndarray, model: np.ndarray, fi: 
     entries = loo_entries(loo, lines, ["x"] * n, x + s["x"][0], np.ones(n))
     for e in entries:
         e["unit"] = "m"
-    name_outliers(summary, lines, loo["p"], "imprint", table=s.table)
+    name_outliers(summary, lines, loo["p"], "imprint", s.table)
     if fi.dof > 0:
         noise_plausible(summary, float(np.sqrt(r @ r / fi.dof)), NOISE_X, "the imprint positions", "m")
     if t is not None:
@@ -260,7 +260,7 @@ def _check_series(summary: dict, s: dict, x: np.ndarray, model: np.ndarray, fi: 
         for e in te:
             e["unit"] = "s"
         entries += te
-        name_outliers(summary, lines, loo_t["p"], "instant", table=s.table)
+        name_outliers(summary, lines, loo_t["p"], "instant", s.table)
         if ft.dof > 0:
             noise_plausible(summary, float(np.sqrt(rt @ rt / ft.dof)), NOISE_T, "the impact instants", "s")
     summary["leave_one_out"] = entries
@@ -292,7 +292,7 @@ def _check_clicks(summary: dict, s: dict, tt: np.ndarray, model: np.ndarray, fb:
                                      f"{s.unit_text['t']}?)")
     loo = leave_one_out(r / sig, J / sig, lines, sigma_known=held)
     summary["leave_one_out"] = loo_entries(loo, lines, ["t"] * n, tt + s["t"][0], np.full(n, sig))
-    name_outliers(summary, lines, loo["p"], "click", table=s.table)
+    name_outliers(summary, lines, loo["p"], "click", s.table)
     if sigma is None and fb.dof > 0:
         noise_plausible(summary, float(np.sqrt(r @ r / fb.dof)), NOISE_T, "the click instants", "s")
     if h0 is not None:
