@@ -52,7 +52,11 @@ def interruptible() -> Iterator[None]:
     sigs = [s for s in STOP_SIGNALS if signal.getsignal(s) is not signal.SIG_IGN]
     previous = {s: signal.signal(s, handler) for s in sigs}
     try:
-        yield
+        try:
+            yield
+        except SystemExit:  # click ends every command with one, exit 0 included: a signal held back is not dropped
+            checkpoint()
+            raise
         checkpoint()  # a signal whose exception was swallowed still ends the block as an interruption
     finally:
         for s, h in previous.items():
