@@ -196,21 +196,33 @@ def identity_flags(baseline: RowResult, drawn: list[RowResult]) -> dict[str, str
     return flags
 
 
-def _identity_task(args: tuple[str, str, int]) -> tuple[str, RowResult, list[RowResult]]:
-    path, work, seed = args
+def _identity_task(args: tuple[str, str, int, bool]) -> tuple[str, RowResult | None, list[RowResult]]:
+    path, work, seed, base = args
     p = Path(path)
-    return p.stem, run_rows(p), draws(p, Path(work), seed)
+    return p.stem, run_rows(p) if base else None, draws(p, Path(work), seed)
 
 
-def identity_violations(paths: Iterable[Path], scratch: Path, seed: int = 35, jobs: int | None = None) -> list[str]:
-    """Rows that no admissible input moves (``identity_flags``), over every file of ``paths``, each run on a process
-    pool (``jobs`` workers, default the CPU count)."""
+def baselines(paths: Iterable[Path], jobs: int | None = None) -> dict[str, RowResult]:
+    """The rows of every file of ``paths`` as shipped, by file stem, run on a process pool (``jobs`` workers, default
+    the CPU count): the ``baseline`` that ``mutation_violations`` and ``identity_violations`` may share."""
     paths = [Path(p) for p in paths]
+    with ProcessPoolExecutor(max_workers=jobs or os.cpu_count() or 1) as pool:
+        return {p.stem: rows for p, rows in zip(paths, pool.map(run_rows, paths), strict=True)}
+
+
+def identity_violations(paths: Iterable[Path], scratch: Path, seed: int = 35, jobs: int | None = None,
+                        baseline: dict[str, RowResult] | None = None) -> list[str]:
+    """Rows that no admissible input moves (``identity_flags``), over every file of ``paths``, each run on a process
+    pool (``jobs`` workers, default the CPU count); the unperturbed rows are taken from ``baseline`` where it has
+    the file (``baselines``), else run."""
+    paths = [Path(p) for p in paths]
+    baseline = baseline or {}
     folder = _copy_configs(paths[0].parent, scratch / "identity")
-    tasks = [(str(folder / p.name), str(folder), seed) for p in paths]
+    tasks = [(str(folder / p.name), str(folder), seed, p.stem not in baseline) for p in paths]
     out = []
     with ProcessPoolExecutor(max_workers=jobs or os.cpu_count() or 1) as pool:
         for stem, base, drawn in pool.map(_identity_task, tasks):
+            base = baseline[stem] if base is None else base
             if len(drawn) < 2:
                 out.append(f"{stem}: fewer than 2 admissible draws of its params ({len(drawn)})")
                 continue

@@ -24,9 +24,9 @@ DECIMAL_COMMA = re.compile(r"\d,\d")
 
 
 @pytest.fixture(scope="module")
-def figures() -> dict[str, tuple[FigureSpec, ...]]:
+def figures(runs) -> dict[str, tuple[FigureSpec, ...]]:
     """Every experiment's figures, by experiment id."""
-    return {eid: api.run(api.load(eid)).figures for eid in api.experiment_ids()}
+    return {eid: rep.figures for eid, rep in runs.items()}
 
 
 def _all(figures):

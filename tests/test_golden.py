@@ -12,8 +12,8 @@ IDS = api.experiment_ids()
 
 
 @pytest.fixture(scope="module")
-def summaries():
-    return {i: summary(api.run(api.load(i)), prov={}) for i in IDS}
+def summaries(runs):
+    return {i: summary(runs[i], prov={}) for i in IDS}
 
 
 def test_every_config_has_a_golden_file():

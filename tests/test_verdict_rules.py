@@ -210,10 +210,16 @@ def test_the_loader_refuses_a_beyond_row_with_the_paper_s_reason_and_a_today_out
         load_experiment(p, KINDS)
 
 
-def test_no_printed_value_is_an_input_and_every_reproduced_row_fails_when_its_value_moves(tmp_path):
+@pytest.fixture(scope="module")
+def shipped_rows():
+    """The rows of every shipped file, run once for the mutation and the identity checks."""
+    return rc.baselines(_shipped())
+
+
+def test_no_printed_value_is_an_input_and_every_reproduced_row_fails_when_its_value_moves(tmp_path, shipped_rows):
     """Mutation: every printed number of every experiment moved by four of its tolerances. No computed value moves
     (a printed value is compared against, never an input), and every row that was reproduced differs."""
-    assert rc.mutation_violations(_shipped(), tmp_path) == []
+    assert rc.mutation_violations(_shipped(), tmp_path, baseline=shipped_rows) == []
 
 
 def test_the_mutation_check_catches_a_kind_that_reads_its_printed_value(tmp_path, monkeypatch):
@@ -234,11 +240,11 @@ def test_the_mutation_check_catches_a_kind_that_reads_its_printed_value(tmp_path
     assert any(v.startswith("marble-drop/eps: its computed value moved") for v in found), found
 
 
-def test_no_reproduced_row_is_a_check_that_cannot_fail(tmp_path):
+def test_no_reproduced_row_is_a_check_that_cannot_fail(tmp_path, shipped_rows):
     """Identities: every experiment re-run at three random admissible perturbations of its params. A reproduced
     formula row whose discrepancy is exactly 0 at every draw (without a margin that moves: a never/always claim
     gives its worst margin), or a reproduced value row that no input moves, is an identity or a definition."""
-    assert rc.identity_violations(_shipped(), tmp_path) == []
+    assert rc.identity_violations(_shipped(), tmp_path, baseline=shipped_rows) == []
 
 
 def test_the_identity_check_catches_a_constant_graded_as_a_claim(tmp_path):

@@ -8,11 +8,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from ..config import Experiment, Node
 from ..mechanics import cloth, reference
-from ..mechanics.budget import bounded, check
+from ..mechanics.budget import bounded, check, solve_ivp
 from .base import Computed, FigureSpec, Reproduction, layer, modern_rows, read_ball, rows_for
 from .kinematics import material_point_velocity
 

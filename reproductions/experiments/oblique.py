@@ -17,11 +17,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
 
 from ..config import Experiment, Node
 from ..fit.estimators import markers as mk
 from ..fit.estimators import shots
+from ..lazy import lazy
 from ..results import modern_table
 from ..series import Markers, read_markers
 from .base import (
@@ -34,6 +34,8 @@ from .base import (
     modern_rows,
     rows_for,
 )
+
+stats = lazy("scipy.stats", globals())
 
 QUANTITIES = ("series_agree", "alpha1_shape", "throw_shape", "throw_halves", "delta2_throw", "delta2_separation",
               "delta2_cue", "f_vs_modern", "f_vs_coriolis", "e_vs_modern")

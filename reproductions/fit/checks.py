@@ -23,9 +23,11 @@ from enum import Enum
 from typing import Any
 
 import numpy as np
-from scipy import stats
 
+from ..lazy import lazy
 from ..series import UNITS, Series, Table, unit_label
+
+stats = lazy("scipy.stats", globals())
 
 __all__ = [
     "G_HIGH",
@@ -345,7 +347,26 @@ def leave_one_out(r: np.ndarray, J: np.ndarray, groups: np.ndarray, *, sigma_kno
     pvals = np.full(labels.size, np.nan)
     statv = np.full(labels.size, np.nan)
     Qs, sizes, dfs, scales = (np.full(labels.size, np.nan) for _ in range(4))
-    for k in range(labels.size):
+    # trials of one residual, all at once (the common case; the loop below costs 50 µs a trial): H_gg is the leverage
+    # h = |U_g|², and the trial alone determines a parameter where 1 − h vanishes (to 1e-12, as the cond test below)
+    one = np.flatnonzero(ends - starts == 1)
+    if one.size:
+        i = order[starts[one]]
+        a = 1.0 - np.einsum("ij,ij->i", U[i], U[i])
+        e = r[i] / np.where(a > 1e-12, a, np.nan)
+        Q = r[i] * e
+        if sigma_known:
+            scale2 = np.ones_like(Q)
+        else:
+            df = N - rank - 1 - dof_extra
+            scale2 = np.maximum(rss - Q, 0.0) / df if df >= 1 else np.full_like(Q, np.nan)
+            dfs[one] = np.where(scale2 > 0, df, np.nan)
+        live = np.isfinite(Q) & (scale2 > 0)
+        k, i, e, Q, a, scale2 = one[live], i[live], e[live], Q[live], a[live], scale2[live]
+        Qs[k], sizes[k], scales[k], statv[k] = Q, 1.0, scale2, Q / scale2
+        deleted[i] = e
+        sd[i] = np.sqrt(scale2 / a)
+    for k in np.flatnonzero(ends - starts > 1):
         idx = order[starts[k]:ends[k]]
         H = U[idx] @ U[idx].T
         A = np.eye(idx.size) - H

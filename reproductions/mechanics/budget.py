@@ -8,7 +8,7 @@ import itertools
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["MAX_RHS", "ODEBudgetExceeded", "bounded", "check"]
+__all__ = ["MAX_RHS", "ODEBudgetExceeded", "bounded", "check", "solve_ivp"]
 
 MAX_RHS = 200_000  # right-hand-side evaluations per integration; the paths here need 100 to 10 000
 
@@ -35,3 +35,11 @@ def check(sol: Any) -> Any:
     if sol.status == -1:
         raise ArithmeticError(f"the ODE solver failed: {sol.message}")
     return sol
+
+
+def solve_ivp(*args: Any, **kwargs: Any) -> Any:
+    """``scipy.integrate.solve_ivp``, imported at its first call: scipy.integrate takes a third of a second to import
+    and most commands (list, a reproduction whose rows need no integration, a fit) never integrate."""
+    from scipy.integrate import solve_ivp as ivp
+
+    return ivp(*args, **kwargs)

@@ -20,8 +20,8 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.integrate import solve_ivp
 
+from .budget import solve_ivp
 from .paths import PathCode, Regime, batch_arrays, codes, pick
 
 __all__ = ["ClothMotion", "centre_of_oscillation", "pendulum_centre_height", "point_velocity", "rigid_jac", "rigid_rhs",

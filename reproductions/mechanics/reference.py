@@ -17,9 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.integrate import solve_ivp
 
-from .budget import bounded, check
+from .budget import bounded, check, solve_ivp
 
 __all__ = ["ReferenceImpact", "ReferencePlane", "integrate_cloth", "integrate_cue_impulse",
            "integrate_direct_impact", "integrate_flight", "integrate_plane_impact"]

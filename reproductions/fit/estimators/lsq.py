@@ -28,9 +28,12 @@ from dataclasses import dataclass
 from enum import Enum
 
 import numpy as np
-from scipy import optimize, special
 
+from ...lazy import lazy
 from ...mechanics import impact, plane
+
+optimize = lazy("scipy.optimize", globals())
+special = lazy("scipy.special", globals())
 
 __all__ = [
     "Combination",

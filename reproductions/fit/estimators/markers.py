@@ -41,16 +41,19 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import interpolate, stats
 
+from ...lazy import lazy
 from ...mechanics import spheres
 from .shots import predict_shots
+
+interpolate = lazy("scipy.interpolate", globals())
+stats = lazy("scipy.stats", globals())
 
 __all__ = ["ANGLES", "CUT", "FLOOR", "INTERP_TOL", "PSI_NODES", "MarkerFit", "Model", "Part", "SlopeTest", "agreement",
            "angles", "fit_f_fixed_e", "fit_markers", "m2lnl", "prediction_band", "slip_speeds", "slope_test"]
 
 ANGLES = ("alpha1", "throw", "sep_dev", "cue_dev", "throw_rolled")
-CUT = float(stats.chi2.ppf(0.95, 1))  # 3.841: one parameter profiled (Wilks)
+CUT = 3.841458820694124  # scipy.stats.chi2.ppf(0.95, 1) (tested): one parameter profiled (Wilks)
 FLOOR = 0.5  # degrees: the digitisation error, the floor of each series' σ
 F_BOUNDS = (0.0, 0.6)
 E_BOUNDS = (0.05, 1.0)

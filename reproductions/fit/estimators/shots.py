@@ -59,11 +59,14 @@ from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy import special, stats
 
 from ...errors import ComputationError, InputError
+from ...lazy import lazy
 from ...mechanics import cloth, impact, spheres
 from .lsq import FitResult, analyse, least_squares_fit
+
+special = lazy("scipy.special", globals())
+stats = lazy("scipy.stats", globals())
 
 __all__ = ["QUANTITIES", "BallBallFit", "OverBudget", "ShotPrediction", "ShotResiduals", "WeightedRows", "ball_tilt",
            "fit_columns", "fit_many", "fit_shots", "predict_shots", "shot_residuals", "synthetic_shots",

@@ -33,9 +33,13 @@ from enum import Enum
 from typing import Any
 
 import numpy as np
-from scipy import optimize, special, stats
 
+from ...lazy import lazy
 from .lsq import FitResult
+
+optimize = lazy("scipy.optimize", globals())
+special = lazy("scipy.special", globals())
+stats = lazy("scipy.stats", globals())
 
 __all__ = ["Bootstrap", "BoundedInterval", "Noise", "PolyLaw", "RatioFit", "bootstrap", "bootstrap_many",
            "bounded_interval", "fit_ratio", "fit_ratio_both", "poly_law", "select_law", "transform_interval",

@@ -22,9 +22,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy import stats
 
 from ...errors import ComputationError, InputError
+from ...lazy import lazy
 from ...results import FigureSpec, layer
 from ...series import Series, Table, as_table, read_series
 from ..checks import (
@@ -63,6 +63,8 @@ from .common import (
     rows_from_fit,
     today,
 )
+
+stats = lazy("scipy.stats", globals())
 
 DIMS = {"v": "speed", "phi": "angle", "cue_speed": "speed", "cue_dir": "angle", "obj_speed": "speed",
         "obj_dir": "angle"}

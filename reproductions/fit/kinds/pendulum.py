@@ -16,9 +16,9 @@ import math
 from pathlib import Path
 
 import numpy as np
-from scipy import special, stats
 
 from ...errors import InputError
+from ...lazy import lazy
 from ...mechanics import impact
 from ...results import FigureSpec, layer
 from ...series import Series, Table, as_table, check_pendulum_trials, header_names, read_series
@@ -49,6 +49,9 @@ from .common import (
     identifiability,
     rows_from_fit,
 )
+
+special = lazy("scipy.special", globals())
+stats = lazy("scipy.stats", globals())
 
 DIMS = {"V0": "speed", "V1": "speed", "V1p": "speed", "M": "mass", "Mp": "mass"}
 LABELS = {"eps": "ε (striking body)", "epsp": "ε′ (struck body)"}

@@ -18,9 +18,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy import special, stats
 
 from ...errors import InputError
+from ...lazy import lazy
 from ...mechanics import impact
 from ...results import FigureSpec, layer
 from ...series import Series, Table, as_table, header_names, read_series, unit_label
@@ -62,6 +62,9 @@ from .common import (
     paper_value,
     today,
 )
+
+special = lazy("scipy.special", globals())
+stats = lazy("scipy.stats", globals())
 
 BOUND_TOL = 1e-12  # e this close to 0 or 1 sits on the bound of its admissible range
 DIMS = {"V0": "speed", "V1": "speed", "u0": "speed", "u1": "speed", "h0": "length", "h1": "length"}

@@ -48,9 +48,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
-from ..budget import bounded, check
+from ..budget import bounded, check, solve_ivp
 
 __all__ = ["RefereePlane", "solve", "stick_rate"]
 

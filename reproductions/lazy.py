@@ -1,0 +1,38 @@
+"""Modules imported at their first use, not at the importer's: ``stats = lazy("scipy.stats", globals())`` reads like
+the module and imports it when an attribute is first asked for, then puts the module itself in the importer's
+namespace under the same name (``stats``), so that later uses are plain global lookups with nothing in between.
+scipy.stats, .optimize, .special and .interpolate take about half a second to import, and most commands (``list``,
+a reproduction whose rows fit nothing, ``--help``) use none. No other module of ours is imported here (layer 0)."""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+__all__ = ["LazyModule", "lazy"]
+
+
+class LazyModule:
+    """Stands for the module ``name`` in ``namespace`` until its first attribute is asked for."""
+
+    __slots__ = ("_alias", "_name", "_namespace")
+
+    def __init__(self, name: str, namespace: dict[str, Any]) -> None:
+        self._name = name
+        self._namespace = namespace
+        self._alias = name.rpartition(".")[2]
+
+    def __getattr__(self, attr: str) -> Any:  # called only for names that are not slots: the module's own
+        module = importlib.import_module(self._name)
+        if self._namespace.get(self._alias) is self:
+            self._namespace[self._alias] = module  # from now on the importer reads the module itself
+        return getattr(module, attr)
+
+    def __repr__(self) -> str:
+        return f"<lazy module {self._name!r}>"
+
+
+def lazy(name: str, namespace: dict[str, Any]) -> Any:
+    """A stand-in for ``import name`` bound in ``namespace`` (the importer's ``globals()``) under the last part of
+    ``name``; typed Any: it reads as the module."""
+    return LazyModule(name, namespace)

@@ -1,0 +1,41 @@
+"""scipy's heavy subpackages are imported where they are used, not when a module of ours is imported: a command that
+fits or integrates nothing (`resal list`, `--help`) starts in a fraction of a second, and every process the test
+suite and `make all` start saves half a second."""
+
+import subprocess
+import sys
+
+from scipy import stats
+
+from reproductions.fit.estimators import markers
+from reproductions.lazy import lazy
+
+HEAVY = ("scipy.stats", "scipy.integrate", "scipy.optimize", "scipy.special", "scipy.interpolate")
+
+
+def test_importing_every_module_of_ours_imports_no_heavy_scipy_subpackage():
+    code = ("import sys, pkgutil, importlib, reproductions, cli\n"
+            "for pkg in (reproductions, cli):\n"
+            "    for m in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + '.'):\n"
+            "        importlib.import_module(m.name)\n"
+            f"print(' '.join(m for m in {HEAVY!r} if m in sys.modules))\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == [], f"imported at import time (use reproductions.lazy or a local import): {r.stdout}"
+
+
+def test_a_lazy_module_is_the_module_once_used():
+    """The first attribute read imports the module and puts it in the importer's namespace in the stand-in's place:
+    from then on the importer reads the module itself (a monkeypatch of the module is seen, no wrapper in between)."""
+    ns: dict = {}
+    ns["stats"] = lazy("scipy.stats", ns)
+    assert ns["stats"] is not stats and "scipy.stats" in repr(ns["stats"])
+    assert ns["stats"].chi2 is stats.chi2
+    assert ns["stats"] is stats
+    other = {"stats": 1}
+    assert lazy("scipy.stats", other).norm is stats.norm and other["stats"] == 1  # a name rebound since: left alone
+
+
+def test_the_markers_cut_is_the_chi2_quantile_it_stands_for():
+    """CUT is written as a literal so that importing the module does not import scipy.stats: the same float."""
+    assert markers.CUT == float(stats.chi2.ppf(0.95, 1))
