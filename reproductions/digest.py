@@ -133,6 +133,7 @@ def import_closure(roots: Iterable[str]) -> dict[str, Path]:
     return dict(sorted(seen.items()))
 
 
+@functools.lru_cache(maxsize=1)  # importlib.metadata scans site-packages: 0.1 s a call
 def _versions() -> dict[str, str | None]:
     from importlib import metadata
 
