@@ -86,15 +86,50 @@ def test_the_perturbation_reaches_the_data(unperturbed, perturbed):
     assert a != b and np.allclose(a, b, rtol=1e-8)
 
 
+def _running_kernel() -> str | None:
+    """The kernel OpenBLAS runs in this process (numpy's bundled scipy-openblas, asked through ctypes), or None
+    where that library or its function is not found (then no kernel is left out)."""
+    import ctypes
+
+    libs = sorted((Path(np.__file__).parent.parent / "numpy.libs").glob("libscipy_openblas*"))
+    for lib in libs:
+        try:
+            dll = ctypes.CDLL(str(lib))
+        except OSError:
+            continue
+        for name in ("scipy_openblas_get_corename64_", "scipy_openblas_get_corename", "openblas_get_corename"):
+            f = getattr(dll, name, None)
+            if f is not None:
+                f.restype = ctypes.c_char_p
+                return f().decode(errors="replace")
+    return None
+
+
 def _kernels() -> list[str]:
+    """Kernels other than the one this run uses (that one is the suite's own run)."""
     machine = platform.machine().lower()
+    found: list[str] = []
     if machine in ("x86_64", "amd64"):
         flags = Path("/proc/cpuinfo").read_text() if Path("/proc/cpuinfo").is_file() else ""
         # Prescott (SSE3) runs on every x86-64 and shares no kernel with the AVX2/AVX-512 defaults
-        return ["Prescott"] + (["SkylakeX"] if "avx512f" in flags else [])
-    if machine in ("aarch64", "arm64"):
-        return ["ARMV8"]
-    return []
+        found = ["Prescott"] + (["SkylakeX"] if "avx512f" in flags else [])
+    elif machine in ("aarch64", "arm64"):
+        found = ["ARMV8"]
+    running = (_running_kernel() or "").lower()
+    return [k for k in found if k.lower() != running]
+
+
+def test_the_running_kernel_is_known_where_numpy_bundles_openblas():
+    """The filter above must not silently keep a kernel because it could not ask: where numpy ships its OpenBLAS
+    (the wheels on Linux), the running kernel is read, and OPENBLAS_CORETYPE, where set to a kernel this processor
+    runs, is what it reads."""
+    if not list((Path(np.__file__).parent.parent / "numpy.libs").glob("libscipy_openblas*")):
+        pytest.skip("this numpy does not bundle scipy-openblas")
+    kernel = _running_kernel()
+    assert kernel, "numpy bundles OpenBLAS but its kernel could not be read"
+    asked = os.environ.get("OPENBLAS_CORETYPE")
+    if asked:
+        assert kernel.lower() == asked.lower()
 
 
 @pytest.mark.parametrize("kernel", _kernels() or [pytest.param(None, marks=pytest.mark.skip("no known kernel"))])
