@@ -54,11 +54,14 @@ all: $(STAMP)
 # the lock check first: one line, exit 2, when .venv's versions are not requirements.lock's
 # Python's bytecode cache on for the suite (PYTHONDONTWRITEBYTECODE, set in some containers and CI images, unset
 # for it): the suite starts hundreds of `resal` processes, and each would compile every module of resal again
-# (0.2 s a process, 3 s a worker's collection); the caches go to the gitignored __pycache__ folders.
+# (0.2 s a process, 3 s a worker's collection); the caches go to the gitignored __pycache__ folders. OpenBLAS on
+# one thread in each worker unless OPENBLAS_NUM_THREADS says otherwise (a worker per core already: more threads
+# only contend); tests/test_golden_stability.py runs the goldens under the other threading and another kernel.
 test: $(STAMP)
 	@$(BIN)/python tests/lockcheck.py $(LOCK)
 	$(BIN)/ruff check .
-	env -u PYTHONDONTWRITEBYTECODE $(BIN)/python -m pytest -n $(TEST_WORKERS) --dist loadfile
+	env -u PYTHONDONTWRITEBYTECODE OPENBLAS_NUM_THREADS=$${OPENBLAS_NUM_THREADS:-1} \
+	  $(BIN)/python -m pytest -n $(TEST_WORKERS) --dist loadfile
 
 lint: $(STAMP)
 	$(BIN)/ruff check .

@@ -44,6 +44,7 @@ from .experiments import KINDS
 from .fit import options as fit_options
 from .fit.kinds import KINDS as FIT_KINDS
 from .fit.kinds import MAX_RESAMPLES
+from .lazy import HEAVY, preload
 from .locate import names_a_file
 from .mechanics import paths, registry
 from .mechanics.paths import PathCode, Regime
@@ -299,6 +300,7 @@ def run_and_draw(exps: Sequence[Experiment], jobs: int, scratch: Path | str,
         return reps
     from concurrent.futures import FIRST_COMPLETED, wait
 
+    preload(*HEAVY)  # once here, inherited by the forks: not once per worker, nor inside an experiment's time
     reps: list[Reproduction | None] = [None] * n
     with _pool_dies_as_computation_error(jobs), process_pool(jobs) as pool:
         # the longest first (each kind's declared COST): the last to start should be short, not roze-ricochets

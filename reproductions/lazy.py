@@ -9,7 +9,10 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-__all__ = ["LazyModule", "lazy"]
+__all__ = ["HEAVY", "LazyModule", "lazy", "preload"]
+
+# the subpackages imported at first use; ``preload`` them before forking workers that will all need them
+HEAVY = ("scipy.stats", "scipy.optimize", "scipy.special", "scipy.interpolate", "scipy.integrate")
 
 
 class LazyModule:
@@ -23,6 +26,8 @@ class LazyModule:
         self._alias = name.rpartition(".")[2]
 
     def __getattr__(self, attr: str) -> Any:  # called only for names that are not slots: the module's own
+        if attr.startswith("__") or attr in LazyModule.__slots__:  # copy, pickle, introspection: no import
+            raise AttributeError(attr)
         module = importlib.import_module(self._name)
         if self._namespace.get(self._alias) is self:
             self._namespace[self._alias] = module  # from now on the importer reads the module itself
@@ -36,3 +41,10 @@ def lazy(name: str, namespace: dict[str, Any]) -> Any:
     """A stand-in for ``import name`` bound in ``namespace`` (the importer's ``globals()``) under the last part of
     ``name``; typed Any: it reads as the module."""
     return LazyModule(name, namespace)
+
+
+def preload(*names: str) -> None:
+    """Import ``names`` now: in a parent before it forks workers that all use them (imported once, shared by the
+    forks), or before a measurement that must not include them."""
+    for name in names:
+        importlib.import_module(name)

@@ -11,6 +11,7 @@ import fcntl
 import os
 import platform
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -67,7 +68,9 @@ def _held(lock: Path):
 def _shared_root(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The folder every worker of this session sees (the parent of the workers' own base folders under xdist)."""
     base = tmp_path_factory.getbasetemp()
-    return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+    worker = os.environ.get("PYTEST_XDIST_WORKER")
+    # xdist gives each worker <session folder>/popen-<worker>; anything else: this worker's own folder
+    return base.parent if worker and base.name == f"popen-{worker}" else base
 
 
 @pytest.fixture(scope="session")
@@ -82,10 +85,12 @@ def reproduced_all(tmp_path_factory):
     root = _shared_root(tmp_path_factory)
     out, said = root / "reproduced-all", root / "reproduced-all.stdout"
     with _held(root / "reproduced-all.lock"):
-        if not said.is_file():
-            res = CliRunner().invoke(app, ["reproduce", "--all", "--out", str(out)])
+        if not said.is_file():  # into a folder of its own, renamed once whole: a failed run leaves nothing to read
+            work = Path(tempfile.mkdtemp(prefix="reproduced-all.", dir=root))
+            res = CliRunner().invoke(app, ["reproduce", "--all", "--out", str(work)])
             assert res.exit_code == 0, res.output
-            said.write_text(res.stdout, encoding="utf-8")
+            work.rename(out)
+            said.write_text(res.stdout.replace(str(work), str(out)), encoding="utf-8")
     return out, said.read_text(encoding="utf-8")
 
 
@@ -106,4 +111,4 @@ FIRST = ("test_wheel", "test_userfit", "test_verdict_rules", "test_hostile_envir
 
 def pytest_collection_modifyitems(items):
     rank = {name: i for i, name in enumerate(FIRST)}
-    items.sort(key=lambda it: rank.get(Path(str(it.fspath)).stem, len(FIRST)))  # stable: the rest keep their order
+    items.sort(key=lambda it: rank.get(it.path.stem, len(FIRST)))  # stable: the rest keep their order

@@ -162,7 +162,7 @@ def test_two_runs_write_identical_bytes_whatever_the_process_layout(tmp_path, re
     """Figures included. The one exclusion: summary.json's provenance block (git commit, whether the checkout is
     dirty, the code's digest: they can change between two runs while someone edits the tree), and so
     edition-digest.json, a digest of the summaries; every other byte must match. The two runs: the session's
-    (``reproduced_all``: in the test process, one worker per core) and a command's in another process, with one
+    (``reproduced_all``: in a pytest process, one worker per core) and a command's in another process, with one
     worker (two where the machine has a single core, so that the layouts always differ) and another
     SOURCE_DATE_EPOCH, which matplotlib would otherwise write into every PDF."""
     jobs = "2" if (os.cpu_count() or 1) == 1 else "1"

@@ -5,6 +5,7 @@ suite and `make all` start saves half a second."""
 import subprocess
 import sys
 
+import pytest
 from scipy import stats
 
 from reproductions.fit.estimators import markers
@@ -39,3 +40,16 @@ def test_a_lazy_module_is_the_module_once_used():
 def test_the_markers_cut_is_the_chi2_quantile_it_stands_for():
     """CUT is written as a literal so that importing the module does not import scipy.stats: the same float."""
     assert markers.CUT == float(stats.chi2.ppf(0.95, 1))
+
+
+def test_a_stand_in_copies_and_answers_introspection_without_importing():
+    """Dunder names (copy, pickle, inspect) are the stand-in's own: no import, no endless recursion."""
+    import copy
+
+    ns: dict = {}
+    ns["interpolate_like"] = stand_in = lazy("resal_no_such_module", ns)  # importing it would fail loudly
+    assert not hasattr(stand_in, "__wrapped__")
+    twin = copy.copy(stand_in)
+    assert "resal_no_such_module" in repr(twin)
+    with pytest.raises(ModuleNotFoundError):  # a name of the module's: the import is attempted, and fails
+        _ = stand_in.anything
