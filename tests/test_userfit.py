@@ -215,8 +215,10 @@ def test_a_given_sigma_that_understates_the_scatter_is_flagged(tmp_path):
 
 def test_bounce_instants_in_milliseconds_with_sigma_in_milliseconds(tmp_path):
     t = np.array([0.0, 0.3194, 0.5908, 0.8215, 1.0176, 1.1843, 1.3260, 1.4464])
-    a, _ = _run(tmp_path / "s", "bounces", _write(tmp_path / "s.csv", "t", t), "--sigma", "0.001")
-    b, _ = _run(tmp_path / "ms", "bounces", _write(tmp_path / "ms.csv", "t_ms", 1e3 * t), "--sigma", "1")
+    # the units of the fit, not its bootstrap (tested in test_bounces_bootstrap_and_fitted_instants): none here
+    a, _ = _run(tmp_path / "s", "bounces", _write(tmp_path / "s.csv", "t", t), "--sigma", "0.001", "--bootstrap", "0")
+    b, _ = _run(tmp_path / "ms", "bounces", _write(tmp_path / "ms.csv", "t_ms", 1e3 * t), "--sigma", "1",
+                "--bootstrap", "0")
     na, nb = _by_id(a)["bounces.nu"], _by_id(b)["bounces.nu"]
     assert nb["value"] == pytest.approx(na["value"], rel=1e-9) and nb["ci95"] == pytest.approx(na["ci95"], rel=1e-6)
     assert 0.0 < na["ci95"][0] < na["value"] < na["ci95"][1] < 1.0
@@ -233,7 +235,7 @@ def test_ricochet_f_carries_its_measured_undercoverage(tmp_path):
 
 
 def test_pendulum_heights_example_takes_the_striker_back_from_momentum(tmp_path):
-    s, _ = _run(tmp_path, "pendulum", EXAMPLES / "pendulum-heights.csv", "--sigma", "0.5")
+    s, _ = _run(tmp_path, "pendulum", EXAMPLES / "pendulum-heights.csv", "--sigma", "0.5", "--bootstrap", "0")
     fits = _by_id(s)
     for pid, value in (("pendulum.eps", 0.1), ("pendulum.epsp", 0.3)):
         assert abs(fits[pid]["value"] - value) < 4 * fits[pid]["stderr"], fits[pid]
@@ -267,8 +269,9 @@ def test_the_bootstrap_reports_its_progress_and_batches_change_nothing(kind, arg
 def test_pendulum_reduced_chi2_judges_a_given_sigma(tmp_path):
     """The example was made with σ = 0.005 m/s: told so, χ²/dof is near 1; told half of it, near 4, and the fit
     warns that its intervals are too narrow."""
-    right, _ = _run(tmp_path / "a", "pendulum", EXAMPLES / "pendulum.csv", "--sigma", "0.005")
-    wrong, _ = _run(tmp_path / "b", "pendulum", EXAMPLES / "pendulum.csv", "--sigma", "0.0025")
+    # χ² of the fit, not its bootstrap: none here (the examples' own test runs the default one)
+    right, _ = _run(tmp_path / "a", "pendulum", EXAMPLES / "pendulum.csv", "--sigma", "0.005", "--bootstrap", "0")
+    wrong, _ = _run(tmp_path / "b", "pendulum", EXAMPLES / "pendulum.csv", "--sigma", "0.0025", "--bootstrap", "0")
     assert 0.3 < right["goodness"]["reduced_chi2"] < 3 and not right["warnings"]
     assert wrong["goodness"]["reduced_chi2"] > 2.5
     assert any(w["code"] == "chi2-exceeds-sigma" for w in wrong["warnings"])
