@@ -87,13 +87,17 @@ def test_the_perturbation_reaches_the_data(unperturbed, perturbed):
     assert a != b and np.allclose(a, b, rtol=1e-8)
 
 
+def _bundled_openblas() -> list[Path]:
+    """numpy's own OpenBLAS libraries (numpy.libs beside the package, as its Linux wheels ship them)."""
+    return sorted((Path(np.__file__).parent.parent / "numpy.libs").glob("libscipy_openblas*"))
+
+
 def _running_kernel() -> str | None:
     """The kernel OpenBLAS runs in this process (numpy's bundled scipy-openblas, asked through ctypes), or None
     where that library or its function is not found (then no kernel is left out)."""
     import ctypes
 
-    libs = sorted((Path(np.__file__).parent.parent / "numpy.libs").glob("libscipy_openblas*"))
-    for lib in libs:
+    for lib in _bundled_openblas():
         try:
             dll = ctypes.CDLL(str(lib))
         except OSError:
@@ -124,7 +128,7 @@ def test_the_running_kernel_is_known_where_numpy_bundles_openblas():
     """The filter above must not silently keep a kernel because it could not ask: where numpy ships its OpenBLAS
     (the wheels on Linux), the running kernel is read, and OPENBLAS_CORETYPE, where set to a kernel this processor
     runs, is what it reads."""
-    if not list((Path(np.__file__).parent.parent / "numpy.libs").glob("libscipy_openblas*")):
+    if not _bundled_openblas():
         pytest.skip("this numpy does not bundle scipy-openblas")
     kernel = _running_kernel()
     assert kernel, "numpy bundles OpenBLAS but its kernel could not be read"
