@@ -62,7 +62,7 @@ DEPENDENCIES = ("numpy", "scipy", "matplotlib", "rich", "typer", "PyYAML")
 EXPERIMENT_ROOTS = ("reproductions.experiments", "reproductions.config", "reproductions.results",
                     "reproductions.report")
 # what the whole-paper files are made by
-EDITION_ROOTS = ("reproductions.edition", "reproductions.edition_pdf", "reproductions.report")
+EDITION_ROOTS = ("reproductions.edition", "reproductions.report")
 INDEX_FILE = "edition-digest.json"
 INDEX_OUTPUTS = ("index.md", "paper-table.md", "paper-table.csv", "paper-table.tex", "index.html", "report.pdf")
 _TABLES = ("summary.json", "table.md", "table.csv", "table.tex")
@@ -151,7 +151,10 @@ def code_digest(roots: tuple[str, ...] = EXPERIMENT_ROOTS) -> str:
     """The digest of the modules ``roots`` import (their paths inside the package and their bytes), the package's
     data files, and the versions of resal, Python and the runtime dependencies."""
     h = hashlib.sha256()
-    files = [*import_closure(roots).values(), *sorted(p for p in (PACKAGE / "data").rglob("*") if p.is_file())]
+    modules = import_closure(roots).values()
+    # a package's templates (the edition's CSS, script and Typst source) are its code too
+    templates = sorted({t for m in modules for t in (m.parent / "templates").glob("*") if t.is_file()})
+    files = [*modules, *templates, *sorted(p for p in (PACKAGE / "data").rglob("*") if p.is_file())]
     for f in files:
         h.update(f.relative_to(PACKAGE).as_posix().encode() + b"\0" + (file_sha256(f) or "unreadable").encode()
                  + b"\n")

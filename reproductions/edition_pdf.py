@@ -36,7 +36,7 @@ from matplotlib.font_manager import FontProperties
 from matplotlib.text import Text
 from matplotlib.transforms import Affine2D
 
-from .edition_model import Edition, FigureEntry, FindingEntry, MeasurementEntry, Rich, RowEntry, SectionEntry
+from .edition.model import Edition, FigureEntry, FindingEntry, MeasurementEntry, Rich, RowEntry, SectionEntry
 
 __all__ = [
     "BOTTOM", "DESCENT", "LEFT", "PAGE_HEIGHT", "PAGE_WIDTH", "TEXT_WIDTH", "TOP",

@@ -137,8 +137,13 @@ def test_the_code_digest_follows_what_the_experiments_import(tmp_path: Path, mon
                 "reproductions.fit.estimators.lsq"} <= closure.keys()
         assert not {"reproductions.edition", "reproductions.bench", "reproductions.api"} & closure.keys()
         code, edition = digest.code_digest(), digest.code_digest(digest.EDITION_ROOTS)
-        with open(pkg / "edition.py", "a") as fh:
+        with open(pkg / "edition" / "html.py", "a") as fh:
             fh.write("\n# an edit\n")
+        digest.code_digest.cache_clear()
+        assert digest.code_digest() == code and digest.code_digest(digest.EDITION_ROOTS) != edition
+        edition = digest.code_digest(digest.EDITION_ROOTS)
+        with open(pkg / "edition" / "templates" / "edition.css", "a") as fh:  # a template is the edition's code
+            fh.write("\n/* an edit */\n")
         digest.code_digest.cache_clear()
         assert digest.code_digest() == code and digest.code_digest(digest.EDITION_ROOTS) != edition
         with open(pkg / "mechanics" / "impact.py", "a") as fh:

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from reproductions import edition
-from reproductions.edition_model import Span
+from reproductions.edition.model import Span
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -121,12 +121,12 @@ def _luminance(hex_colour: str) -> float:
 
 def test_text_colours_have_enough_contrast():
     """WCAG AA for normal text (4.5:1): every foreground of the page's palette on the background it is set on."""
-    var = dict(re.findall(r"--([a-z]+):(#[0-9a-f]{6})", edition._CSS))
+    var = dict(re.findall(r"--([a-z]+):(#[0-9a-f]{6})", edition.html._CSS))
     pairs = [("fg", "bg"), ("muted", "bg"), ("link", "bg"), ("ok", "okbg"), ("bad", "badbg"), ("na", "nabg"),
              ("muted", "filters"), ("beyondfg", "beyondbg")]
     var["beyondfg"], var["beyondbg"] = re.search(r"\.beyond\{color:(#[0-9a-f]{6});background:(#[0-9a-f]{6})",
-                                                 edition._CSS).groups()
-    var["filters"] = re.search(r"\.filters\{[^}]*background:(#[0-9a-f]{6})", edition._CSS).group(1)
+                                                 edition.html._CSS).groups()
+    var["filters"] = re.search(r"\.filters\{[^}]*background:(#[0-9a-f]{6})", edition.html._CSS).group(1)
     for fg, bg in pairs:
         a, b = sorted((_luminance(var[fg]), _luminance(var[bg])), reverse=True)
         assert (a + 0.05) / (b + 0.05) >= 4.5, (fg, bg, (a + 0.05) / (b + 0.05))

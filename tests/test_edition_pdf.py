@@ -19,7 +19,7 @@ import pytest
 from matplotlib.figure import Figure
 
 from reproductions import edition_pdf as ep
-from reproductions.edition_model import Edition, FigureEntry, FindingEntry, RowEntry, SectionEntry, Span
+from reproductions.edition.model import Edition, FigureEntry, FindingEntry, RowEntry, SectionEntry, Span
 
 QUOTES = [
     "« Lorsqu'une bille roule sans glisser sur le tapis, la vitesse de son centre et sa vitesse angulaire sont "

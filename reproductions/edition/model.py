@@ -6,7 +6,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-__all__ = ["Edition", "FigureEntry", "FindingEntry", "MeasurementEntry", "Rich", "RowEntry", "SectionEntry", "Span"]
+__all__ = ["CATEGORY", "VERDICT_LABEL", "Edition", "FigureEntry", "FindingEntry", "MeasurementEntry", "Rich",
+           "RowEntry", "SectionEntry", "Span"]
 
 
 @dataclass(frozen=True)
@@ -113,3 +114,11 @@ class Edition:
     measurement_counts: dict[str, int] = field(default_factory=dict)  # verdict → measured rows, all experiments
     beyond_counts: dict[str, int] = field(default_factory=dict)  # verdict → rows beyond the paper's domain (apart)
     whose_error: tuple[tuple[str, int, str], ...] = ()  # (label, rows, reason codes): report.whose_error
+
+
+# a finding's category, short (its badge; the long words of config.FINDINGS are its title) and its badge's colours
+CATEGORY = {"erratum": ("slip of 1883", "differs"), "formula": ("formula wrong", "formula"),
+            "premise": ("premise fails", "premise"), "beyond": ("not in the paper", "beyond"),
+            "holds": ("Résal right", "reproduced"), "measured": ("measured today", "beyond")}
+VERDICT_LABEL = {"reproduced": "reproduced", "differs": "differs", "not-checkable": "not checkable",
+                 "consistent": "consistent", "inconsistent": "inconsistent", "fitted": "fitted"}
