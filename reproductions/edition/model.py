@@ -6,19 +6,20 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-__all__ = ["CATEGORY", "VERDICT_LABEL", "Edition", "FigureEntry", "FindingEntry", "MeasurementEntry", "Rich",
-           "RowEntry", "SectionEntry", "Span"]
+__all__ = ["CATEGORY", "FACSIMILE_ITEM", "FACSIMILE_PDF", "VERDICT_LABEL", "Edition", "ErrorKind", "FigureEntry",
+           "FindingEntry", "MeasurementEntry", "Rich", "RowEntry", "SectionEntry", "Span", "facsimile"]
 
 
 @dataclass(frozen=True)
 class Span:
-    """A run of text: ``style`` is "" (plain), "sub", "sup" (a sub- or superscript), "em" or "code"."""
+    """A run of text: ``style`` is "" (plain), "math" (``text`` is one formula's LaTeX source: the one source the
+    HTML's MathML and the PDF's Typst math are both made from), "em" or "code"."""
 
     text: str
     style: str = ""
 
 
-Rich = tuple[Span, ...]  # text with its sub- and superscripts, as a reader writes a formula
+Rich = tuple[Span, ...]  # prose with its formulas
 
 
 @dataclass(frozen=True)
@@ -55,6 +56,9 @@ class RowEntry:
     today: str  # today's value beside it, or ""
     config: str  # "configs/<id>.yaml:<line>"
     function: str  # "reproductions.experiments.<kind module>.<function>" that computes it
+    evidence: str = ""  # what was found, in words: "agrees to 15 digits", "differs: printed 0.155, computed 0.101"
+    english: Rich = ()  # the project's English rendering of ``printed`` (the French as printed)
+    page: int | None = None  # the page of 1883 the row's section starts on (the facsimile's page)
 
 
 @dataclass(frozen=True)
@@ -98,6 +102,17 @@ class SectionEntry:
     notes: tuple[Rich, ...] = field(default=())
     measurements: tuple[MeasurementEntry, ...] = field(default=())
     measurement_counts: dict[str, int] = field(default_factory=dict)  # verdict → measured rows
+    page: int | None = None  # the page of 1883 the section starts on
+
+
+@dataclass(frozen=True)
+class ErrorKind:
+    """A line of the summary's table: a kind of error, how many rows show it, and what it means."""
+
+    code: str  # a group of config.REASON_GROUPS, or "beyond" / "holds"
+    label: str
+    rows: int
+    meaning: str
 
 
 @dataclass(frozen=True)
@@ -114,6 +129,24 @@ class Edition:
     measurement_counts: dict[str, int] = field(default_factory=dict)  # verdict → measured rows, all experiments
     beyond_counts: dict[str, int] = field(default_factory=dict)  # verdict → rows beyond the paper's domain (apart)
     whose_error: tuple[tuple[str, int, str], ...] = ()  # (label, rows, reason codes): report.whose_error
+    answer: tuple[Rich, ...] = ()  # three sentences: what holds, what 1883 got wrong, what today's data say
+    error_kinds: tuple[ErrorKind, ...] = ()  # the summary's table
+    history: tuple[Rich, ...] = ()  # a short historical note: Coriolis 1835, Résal 1883, Rozé
+    top: int = 10  # the findings the summary shows; the rest one click away
+
+
+# the public facsimile: NUMDAM's scan of J. Math. Pures Appl. (3) 9 (1883), 65–98 (the digitised text's own first
+# page names the item; the article's PDF opens with NUMDAM's cover page, so page p of 1883 is page p − 63 of it)
+FACSIMILE_ITEM = "http://www.numdam.org/item?id=JMPA_1883_3_9_65_0"
+FACSIMILE_PDF = "http://www.numdam.org/article/JMPA_1883_3_9_65_0.pdf"
+FIRST_PAGE, LAST_PAGE = 65, 98
+
+
+def facsimile(page: int | None) -> str:
+    """The facsimile at a page of 1883 (its item page when the page is unknown or outside 65–98)."""
+    if page is None or not FIRST_PAGE <= page <= LAST_PAGE:
+        return FACSIMILE_ITEM
+    return f"{FACSIMILE_PDF}#page={page - FIRST_PAGE + 2}"
 
 
 # a finding's category, short (its badge; the long words of config.FINDINGS are its title) and its badge's colours
