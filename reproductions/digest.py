@@ -56,7 +56,7 @@ __all__ = [
 ]
 
 PACKAGE = Path(__file__).resolve().parent
-DEPENDENCIES = ("numpy", "scipy", "matplotlib", "rich", "typer", "PyYAML")
+DEPENDENCIES = ("numpy", "scipy", "matplotlib", "rich", "typer", "PyYAML", "typst", "latex2mathml")
 # what an experiment folder is made by: the kinds (and through them the physics and the fits), the config reader,
 # the result types, the report writer (tables and figures)
 EXPERIMENT_ROOTS = ("reproductions.experiments", "reproductions.config", "reproductions.results",
