@@ -4,9 +4,16 @@ counted apart from the printed claims (the reader's edition must never add the t
 from __future__ import annotations
 
 import copy
+import io
+import re
+import shutil
+import subprocess
+
+import pytest
 
 from reproductions import edition, report
-from reproductions.edition_pdf import layout_edition
+from reproductions.edition.model import VERDICT_LABEL
+from reproductions.edition.typst import write_pdf
 
 PAPER = {
     "experiment": "marble-drop", "title": "Marble drop", "kind": "rebound",
@@ -70,13 +77,21 @@ def test_the_html_has_a_part_of_its_own_with_every_measurement_once():
     assert "0.338" in html and "0.459" in html  # the interval shown
 
 
-def test_the_pdf_lays_out_every_measurement_and_cites_its_page():
-    layout = layout_edition(_edition(), {})
-    text = "\n".join(ln.text for ln in layout.lines())
-    assert "The 1883 theory against today's measurements" in text
-    anchors = {ln.anchor for ln in layout.lines() if ln.anchor}
-    assert {f"modern-head-on--{m['id']}" for m in MEASURED["measurements"]} <= anchors
-    assert "cue_final_speed (p. " in text and "(p. ?)" not in text
+def test_the_pdf_sets_every_measurement_and_cites_its_page(tmp_path):
+    if shutil.which("pdftotext") is None:
+        pytest.skip("pdftotext (poppler-utils) is not installed")
+    buf = io.BytesIO()
+    write_pdf(_edition(), tmp_path, buf)
+    (tmp_path / "report.pdf").write_bytes(buf.getvalue())
+    text = subprocess.run(["pdftotext", "-raw", "-enc", "UTF-8", str(tmp_path / "report.pdf"), "-"], check=True,
+                          capture_output=True, text=True, encoding="utf-8").stdout
+    text = re.sub(r" ([,.;])", r"\1", " ".join(text.split()))  # a badge's margin is no space before a comma
+    part = text[text.rindex("The 1883 theory against today's measurements"):]  # the part, not the contents
+    assert "3 measurements: 1 consistent, 1 inconsistent, 1 fitted." in part  # apart, by their own verdicts
+    for m in MEASURED["measurements"]:  # each its table, its head the id and the verdict
+        assert f"{m['id']} {VERDICT_LABEL[m['verdict']]}" in part
+        assert m["measured_text"] in part
+    assert "cue_final_speed (p. " in text and "(p. ?" not in text  # the finding cites the page of its row
 
 
 def test_a_summary_and_its_tables_carry_the_measurements():

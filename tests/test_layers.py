@@ -15,7 +15,7 @@ LAYERS = {
     "reproductions.report": 5, "reproductions.digest": 5, "reproductions.locate": 0, "reproductions.processes": 0,
     "reproductions.startup": 0, "reproductions.diffing": 0, "reproductions.lazy": 0,
     "reproductions.edition.model": 3, "reproductions.edition": 6,
-    "reproductions.edition_pdf": 6, "reproductions.models": 5, "reproductions.bench": 5,
+    "reproductions.models": 5, "reproductions.bench": 5,
     "reproductions.stress": 5, "reproductions.golden": 6, "reproductions.fitbench": 5, "reproductions.coverage": 6,
     "reproductions.fit.coverage_table": 0,  # reads a JSON file: no numpy, no other module of ours
     "reproductions": 0, "cli": 7,  # the package: __version__

@@ -1,6 +1,6 @@
 """The paper as a whole (issue 13): paper-table.{md,csv,tex} in the paper's order, index.md with the verdict totals,
-report.pdf (its layout, which the same call returns, holds every experiment, row and figure; the file is those same
-bytes), and the short summary that `reproduce --all` prints. The PDF's own rendering is tested in
+report.pdf (its text, as poppler reads it, holds every experiment, row and figure; the edition compiled again gives
+the file's bytes), and the short summary that `reproduce --all` prints. The PDF's own rendering is tested in
 test_edition_pdf.py."""
 
 import csv
@@ -15,25 +15,33 @@ from cli import main
 from cli.main import app
 from reproductions import api, edition, report
 from reproductions.config import REASONS
+from reproductions.edition.model import VERDICT_LABEL
 
 runner = CliRunner()
 
 
-# -- report.pdf through the layout that drew it ---------------------------------------------------------------------
-def _layout(out: Path):
-    """The layout of out/report.pdf, from the same call that writes it (checked to give the file's bytes)."""
+# -- report.pdf through the text poppler reads in it -------------------------------------------------------------
+def _pdf_pages(out: Path) -> list[str]:
+    """The text of out/report.pdf, page by page (pdftotext -raw: in the order the page draws it, a table's cells one
+    by one), after checking that the edition of out's summaries gives the file's bytes again."""
     import io
+    import shutil
+    import subprocess
 
-    from reproductions import edition_pdf
+    from reproductions.edition.typst import write_pdf
 
+    if shutil.which("pdftotext") is None:
+        pytest.skip("pdftotext (poppler-utils) is not installed")
     buf = io.BytesIO()
-    lay = edition_pdf.write_pdf(edition.build(report._summaries(out)), out, buf)
+    write_pdf(edition.build(report._summaries(out)), out, buf)
     assert buf.getvalue() == (out / "report.pdf").read_bytes()
-    return lay
+    text = subprocess.run(["pdftotext", "-raw", "-enc", "UTF-8", str(out / "report.pdf"), "-"], check=True,
+                          capture_output=True, text=True, encoding="utf-8").stdout
+    return text.split("\f")[:-1]
 
 
-def _heading_lines(lay) -> list[str]:
-    return [ln.text for page in lay.pages for ln in page.lines]
+def _heading_lines(pages: list[str]) -> list[str]:
+    return [" ".join(ln.split()) for page in pages for ln in page.splitlines()]
 
 
 # -- the real experiments ----------------------------------------------------------------------------------------
@@ -147,22 +155,27 @@ def test_report_pdf_holds_every_experiment_row_and_figure(written):
     out, summaries, _ = written
     data = (out / "report.pdf").read_bytes()
     assert data.startswith(b"%PDF") and b"/CreationDate" not in data and b"/Producer" not in data
-    assert b"/FontFile2" in data and b"/Courier" not in data  # embedded TrueType, no base-14 font
-    lay = _layout(out)
-    assert len(lay.pages) == len(re.findall(rb"/Type\s*/Page(?!s)", data))
-    lines = _heading_lines(lay)
-    for s in summaries:  # each row's heading: its id, its verdict, its reason
+    assert re.search(rb"/FontFile[23]?\b", data) and b"/Courier" not in data  # embedded fonts, no base-14 font
+    pages = _pdf_pages(out)
+    assert len(pages) == len(re.findall(rb"/Type\s*/Page(?!s)", data))
+    lines = _heading_lines(pages)
+    for s in summaries:  # each row's table, its head: its id, its verdict, its reason
         for r in s["rows"]:
-            want = [r["id"], r["verdict"]] + ([r["reason"]] if r["reason"] else [])
+            want = [r["id"], VERDICT_LABEL[r["verdict"]]] + ([r["reason"]] if r["reason"] else [])
             assert any(ln.startswith(r["id"] + " ") and all(w in ln for w in want) for ln in lines), \
                 (s["experiment"], r["id"])
-    placed = [(f.png, f.part) for page in lay.pages for f in page.figures]
-    for s in summaries:
-        for f in s["figures"]:
-            if f.endswith(".png"):
-                assert (f"{s['experiment']}/{f}", s["experiment"]) in placed
+    # each figure in its experiment's part: after its heading's page, before the next experiment's
+    ed = edition.build(report._summaries(out))
+    every = (*ed.sections, *ed.measured_sections)
+    # an experiment's part starts on the page of its line of source and id (below its heading; not in the contents)
+    starts = [next(k for k, p in enumerate(pages) if f"{sec.source} · {sec.experiment} ·" in " ".join(p.split()))
+              for sec in every]
+    for n, sec in enumerate(every):
+        inside = " ".join(" ".join(pages[starts[n]:starts[n + 1] if n + 1 < len(starts) else None]).split())
+        for f in sec.figures:
+            assert f"{f.title.rstrip('. ')}." in inside, (sec.experiment, f.png)
     n_png = sum(f.endswith(".png") for s in summaries for f in s["figures"])
-    assert len(re.findall(rb"/Subtype\s*/Image", data)) >= n_png
+    assert n_png == sum(len(sec.figures) for sec in every) and "figure missing" not in " ".join(pages)
 
 
 # -- hand-made summaries: the order, the columns, today's values, totals per reason, atomic writing -----------------
@@ -250,9 +263,9 @@ def test_hand_made_summaries_give_the_papers_order_and_totals(hand_made):
     tex = (out / "paper-table.tex").read_text()
     assert tex.count(r"\\") == len(table) + 1 and r"\§IV" not in tex and "§IV" in tex
 
-    lines = _heading_lines(_layout(out))
+    lines = _heading_lines(_pdf_pages(out))
     for rid, verdict, reason in (("a3", "differs", "erratum"), ("b1", "differs", "rounding"),
-                                 ("a2", "differs", None), ("b2", "not-checkable", None)):
+                                 ("a2", "differs", None), ("b2", "not checkable", None)):
         assert any(ln.startswith(rid + " ") and verdict in ln and (reason or "") in ln for ln in lines), rid
 
 
@@ -267,9 +280,9 @@ def test_the_report_is_the_same_bytes_twice_and_written_whole(hand_made, monkeyp
         fh.write(b"%PDF-half")
         raise RuntimeError("interrupted while writing")
 
-    from reproductions import edition_pdf
+    from reproductions.edition import typst
 
-    monkeypatch.setattr(edition_pdf, "write_pdf", broken)
+    monkeypatch.setattr(typst, "write_pdf", broken)
     with pytest.raises(RuntimeError):
         edition.write_index(out)
     assert (out / "report.pdf").read_bytes() == first

@@ -28,7 +28,7 @@ def write_index(out: Path, skipped: list[tuple[Path, str]] | None = None) -> Pat
     """``out/index.md`` and ``out/paper-table.{md,csv,tex}`` (``report``), the reader's edition ``out/index.html``
     and ``out/report.pdf`` from the summaries found under ``out``, each written whole and renamed into place.
     ``skipped`` receives the summaries left out (not resal's, or changed by hand: ``report.summary_problem``)."""
-    from ..edition_pdf import write_pdf  # matplotlib: imported only when a report is written
+    from .typst import write_pdf  # the typst package: imported only when a report is written
 
     summaries = _summaries(out, skipped)
     rows = paper_rows(summaries)
