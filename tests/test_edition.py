@@ -1,4 +1,4 @@
-"""The reader's edition built from a results folder: formulas as a reader writes them, each row's config entry
+"""The reader's edition built from a results folder: formulas found in the text as LaTeX, each row's config entry
 and function, printed zeros with absolute differences, the same bytes twice. (The browser's view is in
 test_edition_browser.py.)"""
 
@@ -16,28 +16,112 @@ from pathlib import Path
 import pytest
 
 from reproductions import edition
-from reproductions.edition.model import Span
 
 ROOT = Path(__file__).resolve().parent.parent
 
 
-@pytest.mark.parametrize(("text", "spans"), [
-    ("v_y = η", [Span("v"), Span("y", "sub"), Span(" = η")]),
-    ("φ0 = U/(1 + n)", [Span("φ"), Span("0", "sub"), Span(" = U/(1 + n)")]),
-    ("τ′0", [Span("τ′"), Span("0", "sub")]),
-    ("−nφ0", [Span("−nφ"), Span("0", "sub")]),  # a product: n times φ₀
-    ("n0²R²", [Span("n"), Span("0", "sub"), Span("²R²")]),
-    ("n0R", [Span("n"), Span("0", "sub"), Span("R")]),
-    ("2V′0", [Span("2V′"), Span("0", "sub")]),
-    ("(φ0/φ)^((1+k)/2)", [Span("(φ"), Span("0", "sub"), Span("/φ)"), Span("(1+k)/2", "sup")]),
-    ("∫_{η0}^{η1} dη", [Span("∫"), Span("η0", "sub"), Span("η1", "sup"), Span(" dη")]),
-    (r"$\varepsilon \le 1$", [Span("ε ≤ 1")]),
-    # identifiers, numbers and words stay whole
-    ("eq9_beyond, f_today, 1e-12, 2e5, V1p, eq. (9), n°14",
-     [Span("eq9_beyond, f_today, 1e-12, 2e5, V1p, eq. (9), n°14")]),
+def _formulas(text: str) -> list[str]:
+    return [s.text for s in edition.readable(text) if s.style == "math"]
+
+
+@pytest.mark.parametrize(("text", "latex"), [
+    ("v_y = η", [r"v_{y} = \eta"]),
+    ("φ0 = U/(1 + n)", [r"\varphi_{0} = U/(1 + n)"]),
+    ("τ′0 = 2V′0", [r"\tau'_{0} = 2V'_{0}"]),
+    ("n0²R² = 1", [r"n_{0}^{2}R^{2} = 1"]),
+    ("(φ0/φ)^((1+k)/2) = 1", [r"(\varphi_{0}/\varphi)^{(1 + k)/2} = 1"]),
+    ("f(χ1 − χ0) = ∫_{η0}^{η1} (v/v_y) dη", [r"f(\chi_{1} - \chi_{0}) = \int_{\eta_{0}}^{\eta_{1}} (v/v_{y}) d\eta"]),
+    (r"$\varepsilon \le 1$", [r"\varepsilon \le 1"]),
+    ("ε = 0,155", [r"\varepsilon = 0{,}155"]),  # the French decimal comma, as printed
+    ("g = 9.81 m/s²", [r"g = 9.81 \,\mathrm{m/s}^{2}"]),
+    ("v = ±φ √(1 + x)", [r"v = \pm\varphi \sqrt{1 + x}"]),
+    ("off by 2.2e-16 here", [r"2.2 \times 10^{-16}"]),  # never e-notation
+    ("at V = 2 m/s the ball", [r"V = 2 \,\mathrm{m/s}"]),
 ])
-def test_formulas_read_as_a_reader_writes_them(text, spans):
-    assert list(edition.readable(text)) == spans
+def test_formulas_are_found_and_written_as_latex(text, latex):
+    """A formula inside prose becomes one LaTeX source: symbols with their indices, scripts, roots, units upright."""
+    assert [re.sub(r"\s+", "", x) for x in _formulas(text)] == [re.sub(r"\s+", "", x) for x in latex]
+
+
+@pytest.mark.parametrize("text", [
+    "a ball of radius R", "eq9_beyond, f_today, V1p, eq. (9), n°14", "the cue ball's spin (no closed form)",
+    "Coriolis measured it in 1835", "(A) the cue ball", "ODE and CSV", "ne paraît pas devoir atteindre 0,03",
+])
+def test_prose_is_never_a_formula(text):
+    assert _formulas(text) == [] and edition.plain(edition.readable(text)) == text
+
+
+def _texts(out: Path) -> list[str]:
+    texts = []
+    for s in _summaries(out):
+        for r in s["rows"]:
+            texts += [r["quantity"], r["printed_text"] or "", r["note"], r.get("english") or ""]
+        texts += [f["text"] for f in s.get("findings", [])] + list(s.get("notes", [])) + [s.get("question") or ""]
+        for m in s.get("measurements", []):
+            texts += [m["quantity"], m["note"]]
+    return [t for t in texts if t]
+
+
+def _census(text: str) -> tuple[list[str], list[str]]:
+    """The digits and the Greek letters of a text, in order (² and ³ count as digits)."""
+    text = text.replace("²", "2").replace("³", "3").replace("½", "12")
+    return re.findall(r"\d", text), re.findall(r"[α-ωΑ-Ω]", text)
+
+
+def test_no_character_of_a_formula_is_lost(reproduced_all):
+    """Over every text of the edition: the digits and Greek letters of the text are those of its prose and its
+    formulas' LaTeX, in order (a formula that swallowed or dropped a symbol fails). Texts with e-notation, which
+    becomes × 10ⁿ, are left out."""
+    from reproductions.edition.formula import GREEK
+
+    back = {v: k for k, v in GREEK.items()}
+    out, _ = reproduced_all
+    checked = 0
+    for text in _texts(out):
+        if re.search(r"\de[-+]?\d", text) or "\\" in text:
+            continue
+        rebuilt = []
+        for sp in edition.readable(text):
+            if sp.style != "math":
+                rebuilt.append(sp.text)
+                continue
+            lx = re.sub(r"\\([A-Za-z]+)", lambda m: back.get(m.group(1), " "), sp.text.replace("{,}", ","))
+            rebuilt.append(lx)
+        assert _census("".join(rebuilt)) == _census(text.replace("$", "")), text
+        checked += 1
+    assert checked > 500
+
+
+def test_every_formula_becomes_mathml_with_no_source_left(reproduced_all):
+    """Every formula of the edition converts (latex2mathml), and the rendered symbols hold no LaTeX: no backslash,
+    no _ or ^, and a brace only where the formula has one."""
+    from reproductions.edition.formula import mathml
+
+    out, _ = reproduced_all
+    n = 0
+    for text in _texts(out):
+        for f in _formulas(text):
+            shown = html.unescape(re.sub(r"<[^>]+>", "", re.sub(r'alttext="[^"]*"', "", mathml(f))))
+            assert not re.search(r"[\\_^]", shown), (f, shown)
+            assert shown.count("{") == f.count(r"\{"), (f, shown)
+            n += 1
+    assert n > 300
+
+
+@pytest.mark.parametrize(("row", "words"), [
+    ({"printed": 0.155, "computed": 0.101, "rel_diff": -0.348, "verdict": "differs", "tolerance": 0.005},
+     "differs: printed 0.155, computed 0.101"),
+    ({"printed": 0.5, "computed": 0.5000000000000001, "rel_diff": 2.2e-16, "verdict": "reproduced",
+      "tolerance": 1e-9}, "agrees to 15 digits: printed 0.5, computed 0.5"),
+    ({"printed": None, "computed": 2.2e-16, "rel_diff": None, "verdict": "reproduced", "tolerance": 1e-9},
+     "holds: discrepancy 2.2 × 10⁻¹⁶, judged within 10⁻⁹"),
+    ({"printed": 3.0, "computed": None, "rel_diff": None, "verdict": "not-checkable", "tolerance": None},
+     "nothing to compute: a measurement the paper reports"),
+])
+def test_evidence_is_said_in_words(row, words):
+    from reproductions.edition.build import evidence
+
+    assert evidence(row) == words
 
 
 def _summaries(out: Path) -> list[dict]:
@@ -97,10 +181,18 @@ def test_the_page_shows_no_latex_source_and_every_note_whole(reproduced_all):
     text = _visible_text(page)
     for pattern in (r"\\[A-Za-z]+", r"_\{", r"\^\{", r"\^\(", r"\$"):
         assert not re.search(pattern, text), pattern
+    from reproductions.edition.formula import mathml
+
     for s in _summaries(out):
-        for r in s["rows"]:  # every note and printed text reaches the page whole, set as a reader writes it
-            for key in ("note", "printed_text", "quantity"):
-                assert edition.rich_html(edition.readable(r[key])) in page, (s["experiment"], r["id"], key)
+        for r in s["rows"]:  # every note and printed text reaches the page whole: its formulas as MathML, its prose
+            for key in ("note", "printed_text", "quantity"):  # escaped (a row's id in it may have become a link)
+                for sp in edition.readable(r[key]):
+                    if sp.style == "math":
+                        assert mathml(sp.text) in page, (s["experiment"], r["id"], key, sp.text)
+                        continue
+                    for piece in re.split(r"[a-z][a-z0-9_]* of [a-z]+(?:-[a-z]+)+|[a-z][a-z0-9]*(?:_[a-z0-9]+)+|"
+                                          r"[a-z]+\d+[a-z0-9]*|doi:\S+|\d+e-\d+", sp.text):
+                        assert html.escape(piece, quote=True) in page, (s["experiment"], r["id"], key, piece)
 
 
 def test_the_edition_is_the_same_bytes_twice(reproduced_all, tmp_path):

@@ -71,7 +71,7 @@ def test_the_html_has_a_part_of_its_own_with_every_measurement_once():
     for m in MEASURED["measurements"]:
         assert html.count(f'id="modern-head-on--{m["id"]}"') == 1
     part = html[html.index('id="measured"'):]
-    assert 'class="row' not in part.split('id="exp-modern-head-on"')[1]  # measurements are not claim cards
+    assert '<article class="row ' not in part.split('id="exp-modern-head-on"')[1]  # measurements are not claim cards
     assert "1 inconsistent" in part and "1 consistent" in part and "1 fitted" in part
     assert '<a href="#modern-head-on--cue_final_speed">' in html  # the finding links its measured row
     assert "0.338" in html and "0.459" in html  # the interval shown

@@ -6,13 +6,13 @@ from __future__ import annotations
 
 import ast
 import functools
-import re
+import math
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 from .. import __version__
-from ..config import FINDINGS, REASONS
+from ..config import FINDINGS, REASON_GROUP_LABELS, REASON_GROUPS, REASONS
 from ..report import (
     _fmt,
     beyond_counts,
@@ -27,7 +27,8 @@ from ..report import (
     verdict_counts,
     whose_error,
 )
-from .model import Edition, FigureEntry, FindingEntry, MeasurementEntry, Rich, RowEntry, SectionEntry, Span
+from .formula import plain_number, segments
+from .model import Edition, ErrorKind, FigureEntry, FindingEntry, MeasurementEntry, Rich, RowEntry, SectionEntry
 
 __all__ = ["build", "function_of", "plain", "readable"]
 
@@ -44,125 +45,14 @@ def _kind_modules() -> dict[str, str]:
                 return {k.value: v.id for k, v in zip(node.value.keys, node.value.values, strict=True)
                         if isinstance(k, ast.Constant) and isinstance(v, ast.Name)}
     return {}
-_LATEX = {r"\alpha": "α", r"\beta": "β", r"\gamma": "γ", r"\delta": "δ", r"\epsilon": "ε", r"\varepsilon": "ε",
-          r"\zeta": "ζ", r"\eta": "η", r"\theta": "θ", r"\lambda": "λ", r"\mu": "μ", r"\nu": "ν", r"\xi": "ξ",
-          r"\pi": "π", r"\rho": "ρ", r"\sigma": "σ", r"\tau": "τ", r"\phi": "φ", r"\varphi": "φ", r"\chi": "χ",
-          r"\psi": "ψ", r"\omega": "ω", r"\Delta": "Δ", r"\Omega": "Ω", r"\cdot": "·", r"\times": "×",
-          r"\sqrt": "√", r"\int": "∫", r"\pm": "±", r"\mp": "∓", r"\leq": "≤", r"\geq": "≥", r"\le": "≤",
-          r"\ge": "≥", r"\infty": "∞", r"\prime": "′", r"\left": "", r"\right": "", r"\,": " ", r"\;": " "}
-_LETTER = re.compile(r"[A-Za-zα-ωΑ-Ω]")
-
-
-# -- formulas as a reader writes them ---------------------------------------------------------------------------
-def _group(text: str, i: int) -> tuple[str, int]:
-    """The script that starts at ``text[i]``: a balanced {…} or (…) (without its brackets), else a run of up to
-    three letters, digits and primes. Returns (content, index after it); ("", i) when there is none."""
-    if i >= len(text):
-        return "", i
-    if text[i] in "{(":
-        close = "}" if text[i] == "{" else ")"
-        depth = 0
-        for j in range(i, len(text)):
-            depth += text[j] == text[i]
-            depth -= text[j] == close
-            if depth == 0:
-                return text[i + 1:j], j + 1
-        return "", i
-    m = re.match(r"[A-Za-z0-9α-ωΑ-Ω½′]{1,3}", text[i:])
-    return (m.group(0), i + m.end()) if m else ("", i)
-
-
-def _script_allowed(text: str, i: int) -> bool:
-    """Whether the ``_`` at ``i`` starts a subscript: after ∫, or after a symbol of one or two letters (v_y, dx_i),
-    never inside an identifier such as eq9_beyond or f_today."""
-    if i > 0 and text[i - 1] == "∫":
-        return True
-    j = i
-    while j > 0 and text[j - 1] in "′″":
-        j -= 1
-    k = j
-    while k > 0 and _LETTER.match(text[k - 1]):
-        k -= 1
-    if not 1 <= j - k <= 2 or (k > 0 and (text[k - 1].isalnum() or text[k - 1] == "_")):
-        return False
-    content, end = _group(text, i + 1)
-    return bool(content) and (end >= len(text) or not (text[end].isalnum() or text[end] == "_"))
-
-
 def readable(text: str | None) -> Rich:
-    """A formula or a note as spans a reader recognises: LaTeX commands as Unicode, ``x_i``, ``x_{…}``, ``x^(…)``
-    and ``x^{…}`` as sub- and superscripts, ``$`` dropped. Text without them comes back as one span."""
-    s = text or ""
-    if "\\" in s:
-        for cmd in sorted(_LATEX, key=len, reverse=True):
-            s = re.sub(re.escape(cmd) + r"(?![A-Za-z])", _LATEX[cmd], s)
-    s = s.replace("$", "")
-    spans: list[Span] = []
-    buf: list[str] = []
-    i = 0
-    while i < len(s):
-        ch = s[i]
-        if ch in "_^" and (ch == "^" or _script_allowed(s, i)):
-            content, end = _group(s, i + 1)
-            if content:
-                if buf:
-                    spans.append(Span("".join(buf)))
-                    buf = []
-                spans.append(Span(content, "sub" if ch == "_" else "sup"))
-                i = end
-                continue
-        buf.append(ch)
-        i += 1
-    if buf:
-        spans.append(Span("".join(buf)))
-    return tuple(x for sp in spans for x in (_indices(sp.text) if not sp.style else (sp,)))
-
-
-# a one-letter symbol (primes allowed) with a one- or two-digit index, as the digitised text writes φ₀ or V₁: φ0,
-# τ′0, V1, nφ0, n0R, φ0², 2V′0; never inside a word or a number (eq9, 1e-12, 2e5, V1p, f_today)
-_INDEX = re.compile(r"([A-Za-zα-ωΑ-Ω])([′″]*)(\d{1,2})")
-_GREEK = re.compile(r"[α-ωΑ-Ω]")
-
-
-def _is_index(text: str, m: re.Match) -> bool:
-    sym, primes = m.group(1), m.group(2)
-    before = text[m.start() - 1] if m.start() else " "
-    after = text[m.end()] if m.end() < len(text) else " "
-    if _GREEK.match(sym):
-        ok_before = not (_GREEK.match(before) or before in "_.")
-    else:
-        ok_before = not (before.isalpha() or before in "_." or (before.isdigit() and not primes))
-    ok_after = (not (after.isalnum() or after == "_") or after in "²³"
-                or (after.isupper() and after.isascii() and (sym.islower() or _GREEK.match(sym) is not None)))
-    return ok_before and ok_after
-
-
-def _indices(text: str) -> tuple[Span, ...]:
-    out: list[Span] = []
-    at = 0
-    for m in _INDEX.finditer(text):
-        if not _is_index(text, m):
-            continue
-        out.append(Span(text[at:m.end(2)]))
-        out.append(Span(m.group(3), "sub"))
-        at = m.end()
-    out.append(Span(text[at:]))
-    merged: list[Span] = []
-    for sp in out:
-        if sp.text:
-            merged.append(sp)
-    return tuple(merged)
+    """A text of a config or a summary as the edition shows it: prose, and its formulas as LaTeX (``formula``)."""
+    return segments(text)
 
 
 def plain(rich: Rich) -> str:
-    """The text of spans, scripts written back with _ and ^ (for a title attribute or a search)."""
-    out = []
-    for s in rich:
-        if s.style in ("sub", "sup"):
-            out.append(("_" if s.style == "sub" else "^") + (s.text if len(s.text) == 1 else f"({s.text})"))
-        else:
-            out.append(s.text)
-    return "".join(out)
+    """The text of spans, a formula as its LaTeX (for a title attribute or a search)."""
+    return "".join(s.text for s in rich)
 
 
 # -- where a row is defined and computed -------------------------------------------------------------------------
@@ -238,7 +128,39 @@ def _row(name: str, s: dict[str, Any], r: dict[str, Any], computed_key: str) -> 
         reason_label=REASONS.get(reason, ""), note=readable(r["note"]),
         today=today_value(r.get("today"), s.get("modern", ())),
         config=f"{cfg}:{r['config_line']}" if r.get("config_line") else cfg,
-        function=function_of(s["kind"], computed_key))
+        function=function_of(s["kind"], computed_key), evidence=evidence(r),
+        english=readable(r.get("english")) if r.get("english") else (), page=s["source"].get("page"))
+
+
+def _number(x: float, digits: int = 3) -> str:
+    """A number as a reader writes it: 0.155, 2.2 × 10⁻¹⁶ (never e-notation)."""
+    return plain_number(_fmt(x, digits) if abs(x) < 1e-3 or abs(x) >= 1e5 else f"{x:.{digits}g}")
+
+
+def evidence(r: dict[str, Any]) -> str:
+    """What a row found, in words: "agrees to 4 digits (printed 0.155, computed 0.1550)", "holds: discrepancy
+    2.2 × 10⁻¹⁶, judged within 10⁻⁹", "differs: printed 0.155, computed 0.101"."""
+    printed, computed, verdict, tol = r.get("printed"), r.get("computed"), r["verdict"], r.get("tolerance")
+    if verdict == "not-checkable" or computed is None:
+        return "nothing to compute: " + ("a measurement the paper reports" if printed is not None else
+                                         "a claim without a number")
+    if printed is None:  # a formula or a claim: its discrepancy from the exact mechanics
+        off = _number(computed, 2)
+        bound = f", judged within {_number(tol, 2)}" if tol is not None else ""
+        if verdict == "reproduced":
+            return f"holds: discrepancy {off}{bound}"
+        return f"differs: discrepancy {off}{bound}"
+    pv, cv = _number(printed, 4), _number(computed, 4)
+    if verdict == "differs":
+        return f"differs: printed {pv}, computed {cv}"
+    rel = r.get("rel_diff")
+    if printed == 0 or rel is None:
+        return f"agrees: printed {pv}, computed {cv}"
+    if rel == 0:
+        return f"agrees exactly: printed {pv}, computed {cv}"
+    digits = max(0, math.floor(-math.log10(abs(rel))))
+    return (f"agrees to {digits} digit{'s' if digits != 1 else ''}: printed {pv}, computed {cv}" if digits else
+            f"agrees within its tolerance: printed {pv}, computed {cv}")
 
 
 def _measurement(s: dict[str, Any], m: dict[str, Any]) -> MeasurementEntry:
@@ -284,7 +206,7 @@ def build(summaries: Iterable[tuple[str, dict[str, Any]]]) -> Edition:
             source=s["source"]["section"] + (f", p. {page}" if page else ""),
             question=readable(s.get("question") or ""), figures=_figures(name, s), rows=rows,
             counts=verdict_counts(s["rows"])[0], folder=name, notes=tuple(readable(n) for n in s.get("notes", [])),
-            measurements=measured, measurement_counts=measurement_counts([s])))
+            measurements=measured, measurement_counts=measurement_counts([s]), page=page))
     findings = []
     for name, s in summaries:
         for f in s.get("findings", []):
@@ -298,14 +220,79 @@ def build(summaries: Iterable[tuple[str, dict[str, Any]]]) -> Edition:
     counts, reasons = verdict_counts(all_rows)
     prov = next((s.get("provenance") or {} for _, s in summaries), {})
     commit = prov.get("git_commit")
+    beyond = beyond_counts(all_rows)
+    mcounts = measurement_counts(s for _, s in summaries)
     return Edition(
+        answer=answer(counts, reasons, mcounts), error_kinds=error_kinds(reasons, beyond), history=HISTORY,
         title="Résal (1883) checked claim by claim",
         subtitle=("H. Résal, “Commentaire à la théorie mathématique du jeu de billard”, J. Math. Pures Appl. "
                   "(3) 9 (1883), 65–98: every printed value and claim, recomputed from the paper's own premises"),
         counts=counts, reasons=reasons, findings=tuple(findings), sections=tuple(sections),
-        beyond_counts=beyond_counts(all_rows), whose_error=tuple(whose_error(reasons)),
-        measured_sections=tuple(measured_sections), measurement_counts=measurement_counts(s for _, s in summaries),
+        beyond_counts=beyond, whose_error=tuple(whose_error(reasons)),
+        measured_sections=tuple(measured_sections), measurement_counts=mcounts,
         provenance=f"resal {prov.get('version', __version__)}" + (f", commit {commit[:12]}" if commit else "")
         + (" (uncommitted changes)" if prov.get("dirty") else ""))
 
 
+
+
+# the summary's table: what each kind of error means, for a reader who has not met the reason codes
+MEANINGS = {
+    "paper": "Résal's own slips of 1883 and formulas that cannot be right as printed (a second row grades the repair)",
+    "premise": "an assumption of the paper that its own premises or the exact mechanics do not support where it is "
+               "applied",
+    "rounding": "printed digits that round or truncate what the premises give: no error of substance",
+    "digitised": "slips of the digitised text we read, not of the 1883 original (the note gives the likely original)",
+    "beyond": "claims that fail beyond the domain where the paper applies them, counted apart from the paper's own",
+}
+
+
+def error_kinds(reasons: dict[str, int], beyond: dict[str, int]) -> tuple[ErrorKind, ...]:
+    """The summary's table: each group of ``config.REASON_GROUPS`` with its rows (the paper's claims that differ,
+    by whose error; the rows beyond the paper's domain that differ, apart)."""
+    out = []
+    for group, codes in REASON_GROUPS.items():
+        n = beyond.get("differs", 0) if group == "beyond" else sum(reasons.get(c, 0) for c in codes)
+        out.append(ErrorKind(group, REASON_GROUP_LABELS[group], n, MEANINGS[group]))
+    if reasons.get("none given"):
+        out.append(ErrorKind("none", "no reason given yet", reasons["none given"], "differs, and no reason is given"))
+    return tuple(out)
+
+
+def _plural(n: int, one: str, many: str | None = None) -> str:
+    return f"{n} {one if n == 1 else many or one + 's'}"
+
+
+def answer(counts: dict[str, int], reasons: dict[str, int], measured: dict[str, int]) -> tuple[Rich, ...]:
+    """Three sentences: what holds, what 1883 got wrong, what today's measurements say (from the counts alone)."""
+    total = sum(counts.values())
+    group = {g: sum(reasons.get(c, 0) for c in codes) for g, codes in REASON_GROUPS.items()}
+    first = (f"Of the paper's {total} printed values and claims, {counts.get('reproduced', 0)} are reproduced from "
+             f"its own premises by an independent computation, and {counts.get('not-checkable', 0)} cannot be "
+             "checked (a measurement it reports, a claim without a number).")
+    second = (f"Of the {counts.get('differs', 0)} that differ, {_plural(group['paper'], 'is', 'are')} Résal's own "
+              f"errata or formulas that cannot be right as printed and {group['premise']} premises that fail where "
+              f"he applies them; the other {group['rounding'] + group['digitised'] + reasons.get('none given', 0)} "
+              f"are rounded digits ({group['rounding']}) or slips of the digitised text, not of 1883 "
+              f"({group['digitised']}).")
+    n = sum(measured.values())
+    third = (f"Against {n} published measurements of today's balls, his mechanics are consistent with "
+             f"{measured.get('consistent', 0)} and inconsistent with {measured.get('inconsistent', 0)}"
+             + (f" ({measured.get('fitted', 0)} fixed a parameter and test nothing)" if measured.get("fitted") else "")
+             + ".") if n else "No measurement of today's balls is in this results folder."
+    return tuple(readable(x) for x in (first, second, third))
+
+
+HISTORY = tuple(readable(x) for x in (
+    "Gaspard-Gustave Coriolis published his Théorie mathématique des effets du jeu de billard in 1835: the first "
+    "mechanics of a ball that slides, rolls and spins on the cloth, of its impacts on a cushion and on another ball, "
+    "and of the cue's stroke, with coefficients he measured himself.",
+    "In 1883 Henri Résal, of the Académie des sciences and editor of the Journal de mathématiques pures et appliquées, "
+    "published this commentary on it (J. Math. Pures Appl. (3) 9, 65–98). He keeps Coriolis's programme but measures "
+    "the loss in an impact by his own energy-loss coefficient ε in place of Coriolis's fraction of the vis viva, "
+    "simplifies the demonstrations, and compares the results with numbers Coriolis measured and with the ricochet "
+    "experiments of M. Rozé, who threw an ivory ball on planes of marble, glass and other bodies and measured the "
+    "spacing of its imprints.",
+    "This edition recomputes every value and claim it prints from its own premises, integrates the equations of "
+    "motion directly to check each closed form, and sets today's published measurements beside the 1883 mechanics.",
+))
