@@ -69,9 +69,15 @@ def _balanced(text: str, i: int) -> int:
     return -1
 
 
+_GROUP_START = re.compile(r"[\^_√][({\[]")
+_SPACES = re.compile(r"(\s+)")
+
+
 def _tokens(text: str) -> list[str]:
     """Words and the spaces between them; a script's bracket group (``^(k/(1 + k))``, ``_{a b}``) and a root's
     (``√(1 + x)``) never split."""
+    if not _GROUP_START.search(text):  # most texts: words between spaces
+        return [t for t in _SPACES.split(text) if t]
     out: list[str] = []
     buf: list[str] = []
     i = 0
@@ -112,6 +118,7 @@ _WORDS = {"of", "to", "in", "at", "on", "by", "or", "is", "no", "as", "if", "an"
           "les", "des", "une", "est", "que", "qui", "par", "sur", "aux", "eqs", "eq", "max", "min", "mm", "cm"}
 
 
+@lru_cache(maxsize=16384)
 def _piece_latex(piece: str, after_number: bool, in_fraction: bool, in_math: bool = False) -> tuple[str, bool] | None:
     """One piece of a word between operators and brackets, as LaTeX, and whether it is a symbol (a letter); None
     when it is English, not mathematics."""
@@ -215,6 +222,7 @@ def _expression(text: str) -> str:
 _UNIT_POWER = re.compile(r"((?:m|cm|mm|rad)/s)(?:\^(\d)|([²]))")
 
 
+@lru_cache(maxsize=16384)  # a word recurs across the texts (and a run's words are read twice)
 def _word_latex(word: str, after_number: bool = False, whole: bool = False) -> str | None:
     """A word between spaces as LaTeX, or None when it is prose. ``whole``: inside a formula already (a script's
     or a root's content), where a lone letter or number is mathematics too."""
