@@ -1,5 +1,5 @@
 """The reader's edition as data: findings first, then one section per experiment, built from the summaries of a
-results folder. ``edition.html`` and ``edition_pdf`` render the same object, so the browser and the paper
+results folder. ``html`` and ``typst`` render the same object, so the browser and the paper
 say the same thing. No I/O here but reading the summaries' own files' names."""
 
 from __future__ import annotations
