@@ -427,6 +427,7 @@ class Printed:
     line: int | None = None  # the line of the digitised text (../shared/paper/resal-1883.md) that holds the claim
     reason: str | None = None  # why the claim as printed differs (a code of REASONS); None: it is reproduced
     today: str | None = None  # a symbol of the modern values standing beside the claim
+    english: str | None = None  # the project's English rendering of ``text``; None where ``text`` is ""
 
 
 # why a claim as printed differs from what its premises give: the codes a `reason:` may take
@@ -588,6 +589,7 @@ def _printed(node: Node, quantities: tuple[str, ...]) -> Printed:
     quantity = node.string("quantity")
     source = node.string("source")
     text = node.string("text", empty=True)  # "": the paper prints nothing for it (an implicit premise, our repair)
+    english = _english(node, pid, text)
     if node.has("value") and _construct(node._mapping()["value"], node.file, f"{node.path}.value") is not None:
         value, exact, raw, _ = node.number_node("value", "a number or a fraction such as 4/15")
         try:
@@ -620,7 +622,26 @@ def _printed(node: Node, quantities: tuple[str, ...]) -> Printed:
                         node._mapping()["reason"])
     node.done()
     return Printed(pid, computed, quantity, source, value, text, tol, rule, node.where(), formula, line, reason,
-                   today)
+                   today, english)
+
+
+def _english(node: Node, pid: str, text: str) -> str | None:
+    """A printed row's ``english``: the project's rendering of its ``text`` (formulas as printed, the words
+    translated), required where the text quotes the paper and refused where the paper prints nothing."""
+    if text.strip():
+        if not node.has("english"):
+            raise node.fail(f"missing required key '{node.path}.english' (row '{pid}': expected an English rendering "
+                            "of its 'text', a non-empty text: the French words translated, formulas as printed)")
+        english = node.string("english", empty=True)
+        if not english.strip():
+            raise node.fail(f"'{node.path}.english' is empty (row '{pid}'): expected an English rendering of its "
+                            "'text', a non-empty text", node._mapping()["english"])
+        return english
+    if node.has("english"):
+        raise node.fail(f"'{node.path}.english' without a 'text' (row '{pid}'): a row whose 'text' is \"\" quotes "
+                        "nothing, so it has no English rendering; expected no 'english' key",
+                        node._mapping()["english"])
+    return None
 
 
 class Kind(Protocol):

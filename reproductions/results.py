@@ -10,7 +10,7 @@ from __future__ import annotations
 import csv
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib import resources
 from typing import TYPE_CHECKING
 
@@ -64,6 +64,9 @@ class Row:
     source: str
     printed: float | None
     printed_text: str
+    # the project's English rendering of ``printed_text`` (None where it is ""); keyword-only, so that it stands
+    # next to ``printed_text`` in summary.json without moving the positional fields
+    english: str | None = field(default=None, kw_only=True)
     computed: float | None
     rel_diff: float | None
     tolerance: float | None

@@ -321,9 +321,10 @@ def test_each_finding_cites_the_page_of_its_rows(rendered):
         for anchor in f.rows:
             if anchor in rows:
                 r = rows[anchor]
-                assert f"{r.id} (p. {page_of(r)}:" in rendered.text, anchor
+                where = r.section + (f", {r.equation}" if r.equation else "")
+                assert f"{where} (p. {page_of(r)}:" in rendered.text, anchor
             else:
-                assert f"{anchor.partition('--')[2]} (p. " in rendered.text
+                assert "measured (p. " in rendered.text
     assert "(p. ?" not in rendered.text
 
 
@@ -388,7 +389,7 @@ def test_every_measurement_in_its_part(rendered):
         for m in s.measurements:
             assert f"{m.id} {VERDICT_LABEL[m.verdict]}" in part
             assert m.measured in part and m.predicted in part
-    assert "cue_final_speed (p. " in rendered.text
+    assert "measured (p. " in rendered.text  # a finding links a measurement
 
 
 # -- 4. figures: vector, floating, a missing one said -----------------------------------------------------------
@@ -487,7 +488,8 @@ def test_hostile_text_comes_out_verbatim(tmp_path):
     assert text.count(_flat(HOSTILE)) >= 8  # question, answer, history, finding, note, printed, English, evidence
     assert _flat("= " + HOSTILE) in text and _flat("// " + HOSTILE) in text
     assert _flat(f"{HOSTILE_ID} §I n°1") in text  # the row's id, in its head; its label made safe
-    assert f"{HOSTILE_ID} (p. " in rendered.text  # the finding links it
+    assert f"{evil.section}{', ' + evil.equation if evil.equation else ''} (p. " in rendered.text  # the finding
+    # links it, by its place in the paper (the id is not the reader's)
 
 
 def test_a_formula_outside_the_subset_is_refused_not_passed_through(tmp_path):

@@ -72,7 +72,7 @@ def _user_config(tmp_path, csv_text):
     keep = text.index("  - id: nu_smoked_marble")
     stop = text.index("  - id: footnote")
     text = text[:keep] + ("  - {id: nu_mine, computed: nu.mine, quantity: ν of my slab, source: mine, value: 0.80, "
-                          "text: '0,80'}\n") + text[stop:]
+                          "text: '0,80', english: '0.80'}\n") + text[stop:]
     (tmp_path / "imprints.csv").write_text(csv_text)
     cfg = tmp_path / "mine.yaml"
     cfg.write_text(text)

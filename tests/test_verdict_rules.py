@@ -252,7 +252,7 @@ def test_the_identity_check_catches_a_constant_graded_as_a_claim(tmp_path):
     measured ratio) as a printed claim: no input moves it."""
     p = _broken(tmp_path, "marble-drop.yaml", "printed:\n", "printed:\n  - id: const\n    computed: eps_no_rebound\n"
                 "    quantity: \"ε without rebound\"\n    source: \"§I n°5, eq. (9)\"\n    value: 1\n"
-                "    text: \"ε = 1\"\n")
+                "    text: \"ε = 1\"\n    english: \"ε = 1\"\n")
     found = rc.identity_violations([p], tmp_path / "scratch", jobs=1)
     assert any(v.startswith("marble-drop/const: its computed value 1.0 is the same") for v in found), found
 

@@ -21,6 +21,7 @@ from typing import BinaryIO
 
 from ..config import FINDINGS, MEASUREMENT_VERDICTS, REASONS
 from ..report import VERDICTS
+from .formula import plain_number
 from .html import _MEASURED_INTRO, SYMBOLS
 from .model import (
     CATEGORY,
@@ -254,16 +255,18 @@ class _Refs:
         r = self.rows.get(anchor)
         if r is None:
             return f"#{_q(anchor.partition('--')[2] or anchor)}"
-        link = f"#link(label({_q(row_label(anchor))}), {_q(r.id)}) (p. {_page_of(row_label(anchor))}"
+        name = r.section + (f", {r.equation}" if r.equation else "") if isinstance(r, RowEntry) else "measured"
+        link = f"#link(label({_q(row_label(anchor))}), {_q(name)}) (p. {_page_of(row_label(anchor))}"
         if isinstance(r, MeasurementEntry):
             interval = f" {r.interval}" if r.interval != "—" else ""
             found = f"measured {r.measured}, predicted {r.predicted}{interval}, {VERDICT_LABEL[r.verdict]}"
         elif r.evidence:
-            found = f"{r.evidence}; {VERDICT_LABEL[r.verdict]}" + (f" · {r.reason}" if r.reason else "")
+            found = r.evidence + (f" ({r.reason_label})" if r.reason_label else "")
         else:
             said = (f"printed {r.printed_value}, computed {r.computed}, " if r.printed_value != "—" else
                     f"{r.computed}, " if r.computed != "—" else "")
-            found = f"{said}{VERDICT_LABEL[r.verdict]}" + (f" · {r.reason}" if r.reason else "")
+            found = f"{said}{VERDICT_LABEL[r.verdict]}" + (f" ({r.reason_label})" if r.reason_label else "")
+        found = plain_number(found)
         return f"{link}: #{_q(found)})"
 
     def figure(self, png: str) -> str:

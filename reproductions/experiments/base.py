@@ -36,7 +36,7 @@ def compare(p: Printed, c: Computed) -> Row:
     """The verdict for one printed value: reproduced within the printed digits, differs (with why), or not
     checkable; with where it is printed and the config's reason code for a row that differs."""
     row = _compare(p, c)
-    return dataclasses.replace(row, line=p.line, reason=p.reason, today=p.today,
+    return dataclasses.replace(row, english=p.english, line=p.line, reason=p.reason, today=p.today,
                                config_line=int(p.where.rsplit(":", 1)[1]) if ":" in p.where else None,
                                computes=p.computed, margin=c.margin,
                                domain="beyond" if p.id.endswith(BEYOND_SUFFIX) else "paper")
