@@ -376,33 +376,56 @@ def _measure(model: str) -> str:
 
 
 def _work_precision_figure(plt: Any, mod: dict, rtols: Sequence[float]) -> Any:
-    """One model's work-precision figure (``mod``: a model of the report): every path (dots) and auto (a ring),
-    every ODE solver over the tolerances (squares joined by a dashed line), each with a colour of its own; the
-    x axis says what the model's error measures. The caller saves and closes it."""
+    """One model's work-precision figure (``mod``: a model of the report): every path (dots) and auto (a star),
+    every ODE solver over the tolerances (squares joined by a dashed line), each with a colour of its own. A path's
+    dot is its largest error over the scenes where it declares itself exact, the number of bench.md's column "max
+    error where exact"; where its error over all the scenes it handles is larger (the column "max error, all
+    scenes"), an open ring of its colour marks that too. The x axis says so, and what the model's error measures.
+    Sized for a phone (``report.FONT``, ``report.min_font_pt``); the caller saves and closes it."""
     import textwrap
 
-    fig, ax = plt.subplots(figsize=(6, 4.4), layout="constrained")
+    from matplotlib.lines import Line2D
+
+    from .report import _FIG_W, FONT, minus_signs, subscripts
+
+    fig, ax = plt.subplots(figsize=(_FIG_W, 5.8), layout="constrained")
     solvers = list(dict.fromkeys(g["solver"] for g in mod["ode_grid"]))
     n = len(mod["paths"]) + len(solvers)
     cmap = plt.get_cmap("tab10" if n <= 10 else "tab20")
+    beyond = False
     for i, r in enumerate(mod["paths"]):
-        e = r["all_scenes"]["max_error"]
-        style = ({"marker": "o", "mfc": "none", "mec": "k", "mew": 1.5, "ms": 11} if r["path"] == "auto" else
+        exact, every = r["where_exact"]["max_error"], r["all_scenes"]["max_error"]
+        style = ({"marker": "*", "color": "k", "ms": 13} if r["path"] == "auto" else
                  {"marker": "o", "color": cmap(i), "ms": 7})
-        ax.loglog([max(e if e is not None else np.nan, 1e-17)], [r["seconds_per_scene"]], linestyle="none",
-                  label=f"{r['path']} ({r['kind']})", **style)
-    tol = " … ".join(f"{x:g}" for x in rtols)
+        shown = exact if exact is not None else every  # a path exact nowhere: its error over all its scenes
+        ax.loglog([max(shown if shown is not None else np.nan, 1e-17)], [r["seconds_per_scene"]], linestyle="none",
+                  label=f"{r['path']} ({r['kind']})", mfc=style["color"] if exact is not None else "none",
+                  **style)
+        if every is not None and exact is not None and every > 2 * max(exact, 1e-17):
+            beyond = True
+            ax.loglog([max(exact, 1e-17), every], [r["seconds_per_scene"]] * 2, ":", color=style["color"], lw=1)
+            ax.loglog([every], [r["seconds_per_scene"]], linestyle="none", marker="o", mfc="none", mew=1.5, ms=9,
+                      color=style["color"])
     for j, solver in enumerate(solvers):
         pts = [(g["max_error"], g["seconds_per_scene"]) for g in mod["ode_grid"]
                if g["solver"] == solver and g["max_error"] is not None]
         if pts:
-            ax.loglog([max(e, 1e-17) for e, _ in pts], [t for _, t in pts], "--", marker="s", ms=4,
-                      color=cmap(len(mod["paths"]) + j), label=f"ODE, {solver}, rtol {tol}")
-    ax.set_xlabel("largest error over the scenes, against the reference:\n" + textwrap.fill(_measure(mod["model"]), 75),
-                  fontsize=9)
-    ax.set(ylabel="seconds per scene", title=f"Work-precision: {mod['model']}")
+            ax.loglog([max(e, 1e-17) for e, _ in pts], [t for _, t in pts], "--", marker="s", ms=5,
+                      color=cmap(len(mod["paths"]) + j), label=f"ODE, {solver}")
+    tol = ", ".join(minus_signs(f"{x:g}") for x in rtols)
+    ring = "; ring: over all the scenes it handles, where larger" if beyond else ""
+    where = f"largest error where the path declares itself exact (dot{ring}; ODE solvers at rtol {tol})"
+    measure = subscripts(textwrap.fill(_measure(mod["model"]), 62))
+    ax.set_xlabel(textwrap.fill(where, 62) + ", against the reference:\n" + measure, fontsize=FONT["legend"])
+    ax.set_ylabel("seconds per scene", fontsize=FONT["label"])
+    ax.set_title(f"Work-precision: {mod['model']}", fontsize=FONT["title"])
+    ax.tick_params(labelsize=FONT["tick"], which="both")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
+    handles, labels = ax.get_legend_handles_labels()
+    if beyond:  # the ring's key: a handle of its own, not a line of the axes
+        handles.append(Line2D([], [], linestyle="none", marker="o", mfc="none", mew=1.5, ms=9, color="0.3"))
+        labels.append("over all scenes, where larger")
+    fig.legend(handles, labels, loc="outside lower center", ncols=2, fontsize=FONT["legend"], frameon=False)
     return fig
 
 
@@ -429,6 +452,8 @@ def _write(report: dict, out: Path, figures: Path, plt: Any, write_folder: Calla
            signals_deferred: Callable[[], Any]) -> list[Path]:
     """Draw the figures into ``figures``, then write ``out`` whole (``report.write_folder``: a staging folder
     swapped in, so a full disk or a signal leaves the previous benchmark whole; the user's files kept)."""
+    from .report import _DPI, figure_style
+
     written = [out / "bench.json", out / "bench.md"]
     bench_json = json.dumps(report, indent=1) + "\n"
     lines = ["# Work-precision benchmark", "", f"Timer: {report['timer']}. Machine: {report['machine']}.", ""]
@@ -449,13 +474,14 @@ def _write(report: dict, out: Path, figures: Path, plt: Any, write_folder: Calla
         lines += ["", "Pareto verdict (per scene class that auto serves):", ""]
         lines += [f"- {v['auto_path']}, {v['regime']} ({v['scenes']} scenes): {v['verdict']}" for v in mod["pareto"]]
         lines.append("")
-        fig = _work_precision_figure(plt, mod, report["config"]["rtols"])
-        with signals_deferred():  # never an interruption inside matplotlib's writers
-            for ext in ("png", "pdf"):
-                p = figures / f"work-precision-{mod['model']}.{ext}"
-                fig.savefig(p, dpi=110, metadata={"Software": None} if ext == "png" else
-                            {"Creator": None, "Producer": None, "CreationDate": None})
-                written.append(out / p.name)
+        with figure_style():  # the figures' sizes and minus sign, as the experiments' (report.STYLE)
+            fig = _work_precision_figure(plt, mod, report["config"]["rtols"])
+            with signals_deferred():  # never an interruption inside matplotlib's writers
+                for ext in ("png", "pdf"):
+                    p = figures / f"work-precision-{mod['model']}.{ext}"
+                    fig.savefig(p, dpi=_DPI, metadata={"Software": None} if ext == "png" else
+                                {"Creator": None, "Producer": None, "CreationDate": None})
+                    written.append(out / p.name)
         plt.close(fig)
     if "direct_impact_ode_tolerances" in report:
         lines += ["## §I: the two-phase contact at a grid of tolerances (DOP853, against eq. 7)", "",

@@ -300,14 +300,57 @@ def table_tex(s: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-_FIG_W, _FIG_H = 6.4, 4.6  # inches: one panel; each further row of panels adds _ROW_H
-_ROW_H = 1.6
+# Figures are read on phones too: the reader's edition shows each 375 CSS px wide there, and every text in it must
+# then be at least 9 CSS px tall. A font of s pt on a figure W inches wide, shown 375 px wide, is s·375/(72·W) px:
+# every figure is _FIG_W inches wide and none of its texts is smaller than min_font_pt(_FIG_W), 8.6 pt at 5 in.
+PHONE_WIDTH_PX = 375
+MIN_TEXT_PX = 9.0
+
+
+def min_font_pt(width_in: float) -> float:
+    """The smallest font (pt) that is MIN_TEXT_PX tall on a figure ``width_in`` inches wide shown on a phone."""
+    return MIN_TEXT_PX * 72.0 * width_in / PHONE_WIDTH_PX
+
+
+_FIG_W = 5.0  # inches: every figure
+_AX_H = 2.9  # inches: the axes of one row of panels; each further row adds _ROW_H (the rows share them by heights)
+_ROW_H = 1.5
+_PAD, _GAP = 0.06, 0.08  # inches: between the texts and the figure's edge; between stacked texts
 # the PNG's resolution, also the figure's own: the text measured while laying the figure out (legend, margins)
-# is then measured by the renderer that draws the PNG, whose cache serves it again (a third of the PNGs' text
-# measurements, each a few hundred µs)
-_DPI = 120
+# is then measured by the renderer that draws the PNG, whose cache serves it again. 240 dpi, twice the former 120:
+# 1200 px across, 3.2 device pixels per CSS px on a phone showing it 375 px wide (crisp on HiDPI screens)
+_DPI = 240
+_PDF_RASTER_DPI = 150  # the few raster parts of a PDF (a map of many cells): its vectors are not affected
 _PNG_COMPRESSION = 3  # zlib level of the PNGs: 5 % larger than the default 6, encoded in 70 % of its time
 _LINESTYLES = {"-": "solid", "--": "dashed", ":": "dotted", "-.": "dashdot"}
+FONT = {"tick": 9.5, "label": 10.0, "legend": 9.0, "caption": 9.0, "panel": 10.0, "title": 11.5}  # points
+# matplotlib's settings for every figure (ours and the benchmark's): the sizes above, a real minus sign (U+2212) in
+# the tick labels, and mathtext ($\alpha_1$) in the upright font of the text around it
+STYLE = {"font.size": FONT["label"], "axes.labelsize": FONT["label"], "axes.titlesize": FONT["panel"],
+         "xtick.labelsize": FONT["tick"], "ytick.labelsize": FONT["tick"], "legend.fontsize": FONT["legend"],
+         "legend.title_fontsize": FONT["legend"], "figure.titlesize": FONT["title"], "axes.unicode_minus": True,
+         "mathtext.default": "regular"}
+_MINUS = re.compile(r"(?<![\w\-−])-(?=\.?\d)|(?<=\de)-(?=\d)")  # a hyphen before a number, or in 1e-6: a minus
+_MATH = re.compile(r"(\$[^$]*\$)")
+
+
+def figure_style() -> Any:
+    """The rc context of every figure (``STYLE``): enter it around drawing and saving."""
+    import matplotlib
+
+    return matplotlib.rc_context(STYLE)
+
+
+def minus_signs(text: str) -> str:
+    """``text`` with each hyphen that stands for a minus (before a number, or in an exponent) made a real minus
+    sign, outside mathtext (where matplotlib draws a minus already)."""
+    return "".join(part if part.startswith("$") else _MINUS.sub("−", part) for part in _MATH.split(text))
+
+
+def subscripts(text: str) -> str:
+    """A symbol's index drawn as a subscript (mathtext): χ1 → $χ_1$, V′0 → $V′_0$. For the texts that are plain
+    elsewhere (a figure's title is the edition's caption too) and drawn in the figure as its labels are."""
+    return re.sub(r"(?<![A-Za-z0-9$])([A-Za-zα-ω]′?)(\d)(?![\d.])", r"$\1_\2$", text)
 
 
 def _colour(c: str) -> Any:
@@ -320,27 +363,50 @@ def _colour(c: str) -> Any:
     return matplotlib.colormaps[name](float(t))
 
 
+def _regular(v: Sequence[float]) -> bool:
+    import numpy as np
+
+    d = np.diff(np.asarray(v, dtype=float))
+    return len(v) < 2 or bool(np.allclose(d, d[0], rtol=1e-6, atol=0.0))
+
+
+def _log_ticks() -> Any:
+    """Labels of a logarithmic axis: plain numbers (0.01, 0.1, 1, 10) where the axis spans 0.001 to 1000 at most,
+    else powers of ten (not a mixture of both on one axis)."""
+    from matplotlib.ticker import LogFormatterSciNotation
+
+    class Plain(LogFormatterSciNotation):
+        def __call__(self, x: float, pos: int | None = None) -> str:
+            s = super().__call__(x, pos)
+            lo, hi = sorted(self.axis.get_view_interval()) if self.axis is not None else (x, x)
+            return minus_signs(f"{x:g}") if s and lo >= 0.999e-3 and hi <= 1.001e3 else s
+
+    return Plain()
+
+
 def _draw_layers(fig: Any, ax: Any, spec: FigureSpec, legend: str) -> list[tuple[Any, list[float], list[float]]]:
     """Draw one panel's layers on ``ax``, its key at ``legend`` (none: "below"); returns the markers (artist, x, y)
     that may overlap the frame."""
     import numpy as np
+    from matplotlib.colors import to_rgba
 
     markers = []
     for ly in spec.layers:
-        color = _colour(ly.color)
+        color, label = _colour(ly.color), minus_signs(ly.label)
         if ly.kind == "line":
-            ax.plot(ly.x, ly.y, ly.style, color=color, label=ly.label)
+            ax.plot(ly.x, ly.y, ly.style, color=color, label=label)
         elif ly.kind == "points":
-            (art,) = ax.plot(ly.x, ly.y, linestyle="none", marker=ly.marker, color=color, label=ly.label, ms=7)
+            (art,) = ax.plot(ly.x, ly.y, linestyle="none", marker=ly.marker, color=color, label=label, ms=7)
             markers.append((art, list(ly.x), list(ly.y)))
-        elif ly.kind == "band":
-            ax.fill_between(ly.x, ly.y, ly.y2, color=color, alpha=0.2, label=ly.label, lw=0)
+        elif ly.kind == "band":  # shaded, and edged: a narrow band still shows as two lines
+            ax.fill_between(ly.x, ly.y, ly.y2, facecolor=to_rgba(color, 0.25), edgecolor=to_rgba(color, 0.7),
+                            lw=0.8, label=label)
         elif ly.kind == "vband":
-            ax.axvspan(ly.x[0], ly.x[1], color=color, alpha=0.15, label=ly.label, lw=0)
+            ax.axvspan(ly.x[0], ly.x[1], color=color, alpha=0.15, label=label, lw=0)
         elif ly.kind == "hband":
-            ax.axhspan(ly.y[0], ly.y[1], color=color, alpha=0.15, label=ly.label, lw=0)
+            ax.axhspan(ly.y[0], ly.y[1], color=color, alpha=0.15, label=label, lw=0)
         elif ly.kind == "errorbar":
-            ax.errorbar(ly.x, ly.y, yerr=ly.y2, fmt=ly.marker, color=color, label=ly.label, capsize=3)
+            ax.errorbar(ly.x, ly.y, yerr=ly.y2, fmt=ly.marker, color=color, label=label, capsize=3)
         elif ly.kind == "heatmap":
             z = np.asarray(ly.z, dtype=float)
             norm, cmap = None, "viridis"
@@ -350,10 +416,17 @@ def _draw_layers(fig: Any, ax: Any, spec: FigureSpec, legend: str) -> list[tuple
                 lo, hi = float(np.nanmin(z)), float(np.nanmax(z))
                 norm = TwoSlopeNorm(ly.centre, lo, hi) if lo < ly.centre < hi else CenteredNorm(ly.centre)
                 cmap = "RdBu"
-            dx, dy = (ly.x[1] - ly.x[0]) / 2, (ly.y[1] - ly.y[0]) / 2  # a regular grid: drawn as one image
-            img = ax.imshow(z, origin="lower", aspect="auto", cmap=cmap, norm=norm, interpolation="nearest",
-                            extent=(ly.x[0] - dx, ly.x[-1] + dx, ly.y[0] - dy, ly.y[-1] + dy))
-            bar = fig.colorbar(img, ax=ax, label=ly.label)
+            elif ly.norm == "log":
+                from matplotlib.colors import LogNorm
+
+                norm = LogNorm(float(np.nanmin(z)), float(np.nanmax(z)))
+            if spec.xscale == spec.yscale == "linear" and _regular(ly.x) and _regular(ly.y):  # one image
+                dx, dy = (ly.x[1] - ly.x[0]) / 2, (ly.y[1] - ly.y[0]) / 2
+                img = ax.imshow(z, origin="lower", aspect="auto", cmap=cmap, norm=norm, interpolation="nearest",
+                                extent=(ly.x[0] - dx, ly.x[-1] + dx, ly.y[0] - dy, ly.y[-1] + dy))
+            else:  # cells on a logarithmic axis: a mesh, drawn as an image in the PDF too
+                img = ax.pcolormesh(ly.x, ly.y, z, shading="nearest", cmap=cmap, norm=norm, rasterized=True)
+            bar = fig.colorbar(img, ax=ax, label=label)
             if ly.centre is not None:
                 bar.ax.axhline(ly.centre, color="k", lw=0.8)
         elif ly.kind == "contour":  # the curve z = 0, interpolated on the grid
@@ -362,77 +435,76 @@ def _draw_layers(fig: Any, ax: Any, spec: FigureSpec, legend: str) -> list[tuple
                 ax.contour(ly.x, ly.y, z, levels=[0.0], colors=[color], linestyles=[_LINESTYLES.get(ly.style, "solid")],
                            linewidths=1.5)
             if ly.label:  # a contour set has no legend entry of its own
-                ax.plot([], [], ly.style, color=color, label=ly.label)
+                ax.plot([], [], ly.style, color=color, label=label)
         else:
             raise ValueError(f"unknown layer kind {ly.kind!r}")
+    ax.set_xscale(spec.xscale)
     ax.set_yscale(spec.yscale)
+    for axis, scale in ((ax.xaxis, spec.xscale), (ax.yaxis, spec.yscale)):
+        if scale == "log":
+            axis.set_major_formatter(_log_ticks())
     if spec.xlim:
         ax.set_xlim(*spec.xlim)
     if spec.ylim:
         ax.set_ylim(*spec.ylim)
     if spec.xticklabels:
-        ax.set_xticks(range(len(spec.xticklabels)), spec.xticklabels)
+        ax.set_xticks(range(len(spec.xticklabels)), [minus_signs(t) for t in spec.xticklabels])
     if spec.yticklabels:
-        ax.set_yticks(range(len(spec.yticklabels)), spec.yticklabels)
+        ax.set_yticks(range(len(spec.yticklabels)), [minus_signs(t) for t in spec.yticklabels])
+    if spec.aspect == "equal":  # the limits give way, not the box (the figure's height is made to fit them)
+        if spec.xlim and spec.ylim:
+            raise ValueError(f"figure {spec.name!r}: equal scales and both limits fixed (leave one free)")
+        ax.set_aspect("equal", adjustable="datalim")
     ax.grid(alpha=0.3)
+    for a in fig.axes:  # ticks made later (at the save) get this size too, whatever the rc then
+        a.tick_params(which="both", labelsize=FONT["tick"])
     if legend != "below" and any(ly.label and ly.kind != "heatmap" for ly in spec.layers):
-        ax.legend(fontsize=8, loc=legend)
+        ax.legend(loc=legend)
     return markers
 
 
-def _legend_below(fig: Any, axes: list[Any]) -> None:
-    """One key for the whole figure, under the axes (which give up the room it takes)."""
+def _legend_below(fig: Any, axes: list[Any]) -> Any:
+    """One key for the whole figure, under the axes, in as many columns as its widest entry allows (None: no
+    entry). The layout makes room for it."""
+    from matplotlib import cbook
+    from matplotlib.font_manager import FontProperties
+
     found: dict[str, Any] = {}
     for ax in axes:
         for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
             found.setdefault(label, handle)
     if not found:
-        return
-    width = max(0.45 + 0.056 * len(label) for label in found)  # inches at 8 pt: the handle and the text
-    ncols = max(1, min(len(found), int((_FIG_W - 0.3) // width)))
-    leg = fig.legend(list(found.values()), list(found), loc="lower center", bbox_to_anchor=(0.5, 0.0), ncols=ncols,
-                     fontsize=8, frameon=False)
-    height = leg.get_window_extent(fig.canvas.get_renderer()).height / fig.bbox.height
-    fig.subplots_adjust(bottom=fig.subplotpars.bottom + height + 0.08 / fig.get_figheight())  # 0.08 in: a gap
+        return None
+    renderer, prop = fig.canvas.get_renderer(), FontProperties(size=FONT["legend"])
+    em = FONT["legend"] * fig.dpi / 72.0
+    widest = max(renderer.get_text_width_height_descent(s, prop, ismath=cbook.is_math_text(s))[0] for s in found)
+    column = widest + (2.0 + 0.8 + 2.0) * em  # matplotlib's handle, its pad and the spacing of columns, in ems
+    room = (_FIG_W - 2 * _PAD) * fig.dpi + 2.0 * em  # the last column needs no spacing after it
+    ncols = max(1, min(len(found), int(room // column)))
+    return fig.legend(list(found.values()), list(found), loc="lower center", bbox_to_anchor=(0.5, 0.0), ncols=ncols,
+                      frameon=False)
 
 
-def _fit_margins(fig: Any) -> None:
-    """Widen the fixed margins where the axes' labels would be cut by the figure's edge (long tick labels):
-    the text of the axes is measured, not laid out again."""
-    renderer = fig.canvas.get_renderer()
-    W, H, pad = fig.bbox.width, fig.bbox.height, 0.04 * fig.dpi  # pad: 0.04 in
-    ys = [b for b in (a.yaxis.get_tightbbox(renderer) for a in fig.axes) if b is not None]
-    xs = [b for b in (a.xaxis.get_tightbbox(renderer) for a in fig.axes) if b is not None]
-    x0, x1 = min((b.x0 for b in ys), default=pad), max((b.x1 for b in ys), default=W - pad)
-    y0 = min((b.y0 for b in xs), default=pad)
-    sp = fig.subplotpars
-    fig.subplots_adjust(left=sp.left + max(0.0, pad - x0) / W, right=sp.right - max(0.0, x1 - (W - pad)) / W,
-                        bottom=sp.bottom + max(0.0, pad - y0) / H)
+def _words(paragraph: str) -> list[str]:
+    """The words of a line of text, a mathtext span ($…$) kept whole."""
+    return re.findall(r"(?:\$[^$]*\$|[^\s$])+", paragraph)
 
 
-def _wrap_once(fig: Any, text: Any) -> None:
-    """Break a wrapped text into its lines once, with the renderer of the PNG, and draw it unwrapped: matplotlib
-    wraps again at every draw (PNG, PDF), measuring the line word by word, a tenth of make all's drawing time.
-    The breaks follow matplotlib's rule for a centred, unrotated text: each line the longest run of words (at
-    least one) whose width fits twice the distance from the anchor to the nearer side of the figure; found by
-    bisection, since the width grows with the words taken. Other texts keep matplotlib's wrapping."""
-    import math
-
+def _wrap(fig: Any, text: Any, limit: float) -> None:
+    """Break ``text`` into lines no wider than ``limit`` (pixels), measured by the renderer of the PNG, and draw it
+    unwrapped: matplotlib would wrap again at every draw (PNG, PDF), measuring word by word. Each line is the
+    longest run of words (at least one) that fits, found by bisection since the width grows with the words."""
     from matplotlib import cbook
 
-    if (not text.get_wrap() or text.get_horizontalalignment() != "center" or text.get_rotation() != 0
-            or cbook.is_math_text(text.get_text())):
-        return
     renderer, prop = fig.canvas.get_renderer(), text.get_fontproperties()
-    x0 = text.get_transform().transform(text.get_position())[0]
-    limit = 2 * min(fig.bbox.x1 - x0, x0 - fig.bbox.x0)
 
     def fits(words: list[str]) -> bool:
-        return math.ceil(renderer.get_text_width_height_descent(" ".join(words), prop, ismath=False)[0]) <= limit
+        s = " ".join(words)
+        return math.ceil(renderer.get_text_width_height_descent(s, prop, ismath=cbook.is_math_text(s))[0]) <= limit
 
     lines = []
     for paragraph in text.get_text().split("\n"):
-        words = paragraph.split(" ")
+        words = _words(paragraph)
         while len(words) > 1 and not fits(words):
             lo, hi = 1, len(words)  # words[:lo] fits (or is one word), words[:hi] does not
             while hi - lo > 1:
@@ -445,22 +517,84 @@ def _wrap_once(fig: Any, text: Any) -> None:
     text.set_wrap(False)
 
 
+def _slots(fig: Any) -> list[tuple[Any, int, int, Any]]:
+    """Each axes of the figure (colour bars included) with the row and the column of the grid it stands in, and
+    that cell of the grid (in pixels): a colour bar shares its cell with the axes it belongs to."""
+    from matplotlib.transforms import Bbox
+
+    out = []
+    for a in fig.axes:
+        spec = a.get_subplotspec()
+        if spec is None:
+            continue
+        top = spec.get_topmost_subplotspec()
+        cell = Bbox(top.get_position(fig).get_points() * [fig.bbox.width, fig.bbox.height])
+        out.append((a, top.rowspan.start, top.colspan.start, cell))
+    return out
+
+
+def _fit_width(fig: Any, ncols: int) -> None:
+    """Set the left and right margins and the space between columns from the text around the axes (tick labels,
+    axis labels, colour bars), measured: the texts end _PAD inside the figure's edges, _GAP apart."""
+    renderer, W, pad = fig.canvas.get_renderer(), fig.bbox.width, _PAD * fig.dpi
+    left, right = [0.0] * ncols, [0.0] * ncols
+    for a, _, c, cell in _slots(fig):
+        b = a.get_tightbbox(renderer)
+        left[c], right[c] = max(left[c], cell.x0 - b.x0), max(right[c], b.x1 - cell.x1)
+    x0, x1 = pad + left[0], W - pad - right[-1]
+    gap = max((right[c] + left[c + 1] for c in range(ncols - 1)), default=0.0) + _GAP * fig.dpi
+    width = (x1 - x0 - (ncols - 1) * gap) / ncols
+    fig.subplots_adjust(left=x0 / W, right=x1 / W, wspace=gap / width)
+
+
+def _fit_height(fig: Any, nrows: int, title: Any, caption: Any, legend: Any, rows_h: float) -> None:
+    """Make the figure as tall as its texts and its rows of axes (``rows_h`` inches) need: the title, the caption
+    and the texts above the first row at the top, the x axis' labels and the key at the bottom, the panels' titles
+    between rows; each measured, _GAP apart."""
+    renderer, dpi = fig.canvas.get_renderer(), fig.dpi
+    above, below = [0.0] * nrows, [0.0] * nrows
+    for a, r, _, cell in _slots(fig):
+        b = a.get_tightbbox(renderer)
+        above[r], below[r] = max(above[r], (b.y1 - cell.y1) / dpi), max(below[r], (cell.y0 - b.y0) / dpi)
+    title_h = title.get_window_extent(renderer).height / dpi if title.get_text() else 0.0
+    caption_h = caption.get_window_extent(renderer).height / dpi if caption is not None else 0.0
+    legend_h = legend.get_window_extent(renderer).height / dpi if legend is not None else 0.0
+    top = _PAD + title_h + (_GAP + caption_h if caption is not None else 0.0) + _GAP + above[0]
+    bottom = _PAD + (legend_h + _GAP if legend is not None else 0.0) + below[-1]
+    gap = max((below[r] + above[r + 1] for r in range(nrows - 1)), default=0.0) + _GAP
+    H = top + rows_h + (nrows - 1) * gap + bottom
+    fig.set_size_inches(_FIG_W, H)
+    fig.subplots_adjust(top=1 - top / H, bottom=bottom / H, hspace=gap / (rows_h / nrows))
+    title.set_y(1 - _PAD / H)
+    if caption is not None:
+        caption.set_y(1 - (_PAD + title_h + _GAP) / H)
+    if legend is not None:
+        legend.set_bbox_to_anchor((0.5, _PAD / H), transform=fig.transFigure)
+
+
 def _draw(spec: FigureSpec, folder: Path) -> None:
     import matplotlib.pyplot as plt
 
-    fig = _render(spec)
-    # the title goes into the PNG too: report.pdf heads the figure's page with it
-    fig.savefig(folder / f"{spec.name}.png", dpi=_DPI, metadata={"Software": None, "Title": spec.title},
-                pil_kwargs={"compress_level": _PNG_COMPRESSION})
-    fig.savefig(folder / f"{spec.name}.pdf", metadata={"Creator": None, "Producer": None, "CreationDate": None})
+    with figure_style():
+        fig = _render(spec)
+        # the title goes into the PNG too: report.pdf heads the figure's page with it
+        fig.savefig(folder / f"{spec.name}.png", dpi=_DPI, metadata={"Software": None, "Title": spec.title},
+                    pil_kwargs={"compress_level": _PNG_COMPRESSION})
+        fig.savefig(folder / f"{spec.name}.pdf", dpi=_PDF_RASTER_DPI,
+                    metadata={"Creator": None, "Producer": None, "CreationDate": None})
     plt.close(fig)
 
 
 def _render(spec: FigureSpec) -> Any:
-    """The matplotlib figure of a spec, laid out (the caller saves and closes it)."""
+    """The matplotlib figure of a spec, laid out (the caller saves and closes it, in ``figure_style()``)."""
     import matplotlib
 
     matplotlib.use("Agg")
+    with figure_style():
+        return _render_styled(spec)
+
+
+def _render_styled(spec: FigureSpec) -> Any:
     import matplotlib.pyplot as plt
 
     if spec.panels and spec.layers:
@@ -468,42 +602,52 @@ def _render(spec: FigureSpec) -> Any:
     panels = spec.panels or (spec,)
     cols = max(1, min(spec.columns, len(panels)))
     nrows = -(-len(panels) // cols)
-    height = _FIG_H + _ROW_H * (nrows - 1)
-    # fixed margins, not a layout solve: the solve took a third of each figure's time (make all: 19 figures)
+    rows_h = _AX_H + _ROW_H * (nrows - 1)
+    # fixed margins set from the measured texts, not a layout solve: the solve took a third of each figure's time
+    height = rows_h + 1.6  # about the final height: the axes' ticks are then those of the final figure
     fig, grid = plt.subplots(nrows, cols, figsize=(_FIG_W, height), dpi=_DPI, squeeze=False, sharex=len(panels) > 1,
                              sharey=spec.sharey, gridspec_kw={"height_ratios": list(spec.heights) or None})
-    if not spec.panels:
-        fig.subplots_adjust(left=0.12, right=0.96, bottom=0.11, top=0.84 if spec.caption else 0.88)
-    else:
-        headed = any(p.title for p in panels)
-        top = (0.16 if spec.caption else 0.12) * _FIG_H + (0.22 if headed else 0.0)
-        fig.subplots_adjust(left=0.12, right=0.96, bottom=0.11 * _FIG_H / height, top=1 - top / height,
-                            hspace=0.25 if headed else 0.1, wspace=0.08 if spec.sharey else 0.3)
+    fig.subplots_adjust(left=0.8 / _FIG_W, right=1 - 0.2 / _FIG_W, top=1 - 1.0 / height, bottom=0.6 / height,
+                        hspace=0.4 / (rows_h / nrows))
     axes = list(grid.flat)
     markers = []
     for j, (ax, p) in enumerate(zip(axes, panels, strict=False)):
         markers += _draw_layers(fig, ax, p, spec.legend)
         below = j + cols < len(panels)  # another panel under this one: it carries the x axis' labels
-        ax.set(xlabel="" if below else p.xlabel or spec.xlabel,
-               ylabel="" if spec.sharey and j % cols else p.ylabel or spec.ylabel)
+        ax.set(xlabel="" if below else minus_signs(p.xlabel or spec.xlabel),
+               ylabel="" if spec.sharey and j % cols else minus_signs(p.ylabel or spec.ylabel))
         if not below:
             ax.tick_params(labelbottom=True)
         if spec.panels and p.title:
-            ax.set_title(p.title, fontsize=9)
+            ax.set_title(minus_signs(p.title), fontsize=FONT["panel"])
+        if spec.aspect == "equal" and spec.panels:
+            ax.set_aspect("equal", adjustable="datalim")
     for ax in axes[len(panels):]:
         ax.remove()
-    fig.suptitle(spec.title)
+    axes = axes[:len(panels)]
+    title = fig.suptitle(subscripts(minus_signs(spec.title)), fontsize=FONT["title"], va="top")
+    limit = (_FIG_W - 2 * _PAD) * fig.dpi
+    _wrap(fig, title, limit)
     caption = None
-    if spec.caption and not spec.panels:
-        caption = axes[0].set_title(spec.caption, fontsize=7, color="0.3", wrap=True)
-    elif spec.caption:
-        caption = fig.text(0.5, 1 - 0.52 / height, spec.caption, fontsize=7, color="0.3", ha="center", va="center",
-                           wrap=True)
-    if spec.legend == "below":
-        _legend_below(fig, axes[:len(panels)])
-    _fit_margins(fig)
-    if caption is not None:  # where the margins have put it
-        _wrap_once(fig, caption)
+    if spec.caption:
+        caption = fig.text(0.5, 0.9, minus_signs(spec.caption), fontsize=FONT["caption"], color="0.3", ha="center",
+                           va="top")
+        _wrap(fig, caption, limit)
+    legend = _legend_below(fig, axes) if spec.legend == "below" else None
+    equal = spec.aspect == "equal" and len(axes) == 1
+    if equal:  # the limits of the data, before a draw widens one of them to the axes' shape
+        (x0, x1), (y0, y1) = axes[0].get_xlim(), axes[0].get_ylim()
+    _fit_width(fig, cols)
+    if equal:  # rows as tall as those limits need at the axes' width (within bounds), the limits then kept
+        rows_h = min(max(axes[0].bbox.width / fig.dpi * abs(y1 - y0) / abs(x1 - x0), 1.6), 4.6)
+        axes[0].set_xlim(x0, x1, auto=None)
+        axes[0].set_ylim(y0, y1, auto=None)
+    _fit_height(fig, nrows, title, caption, legend, rows_h)
+    _fit_width(fig, cols)  # again: the y axes' ticks are those of the final height
+    renderer = fig.canvas.get_renderer()
+    for a in fig.axes:  # colour bars placed where the final margins put them (else only at the next draw)
+        if a.get_axes_locator() is not None:
+            a.apply_aspect(a.get_axes_locator()(a, renderer))
     for art, xs, ys in markers:  # a marker on the frame is drawn whole, not cut in half by the axes' clip
         (xa, xb), (ya, yb) = sorted(art.axes.get_xlim()), sorted(art.axes.get_ylim())
         if all(xa <= x <= xb for x in xs) and all(ya <= y <= yb for y in ys):

@@ -151,6 +151,7 @@ class Layer:
     marker: str = "o"
     style: str = "-"
     centre: float | None = None  # heatmap of a signed quantity: a diverging colour map, this value its middle
+    norm: str = "linear"  # heatmap: "log", its colours on a logarithmic scale of z (all z > 0)
 
 
 @dataclass(frozen=True)
@@ -175,6 +176,8 @@ class FigureSpec:
     heights: tuple[float, ...] = ()
     legend: str = "best"  # where the key goes: a matplotlib location in each panel, or "below": one, under the axes
     yscale: str = "linear"  # or "log"
+    xscale: str = "linear"  # or "log"
+    aspect: str = "auto"  # "equal": a unit of x as long as a unit of y (paths in a plane drawn undistorted)
 
 
 @dataclass(frozen=True)

@@ -352,12 +352,13 @@ def _figure(p: Params) -> FigureSpec:
         m = cloth.slide(p.fan_speed, 0.0, n, p.fan_top_spin, R=p.R, k=p.k, f=p.f, g=p.g)
         t = np.linspace(0.0, 2.0 * float(m.t_roll) + 1e-9, 120)
         x, y, _, _ = cloth.state_at(t, p.fan_speed, 0.0, n, p.fan_top_spin, R=p.R, k=p.k, f=p.f, g=p.g, f_roll=p.f_roll)
-        layers.append(layer("line", x, y, label=f"n0 = {n:g} rad/s".replace("-", "−"), color=f"C{j % 10}"))
+        layers.append(layer("line", x, y, label=f"$n_0$ = {n:g} rad/s".replace("-", "−"), color=f"C{j % 10}"))
         layers.append(layer("points", [float(m.x_roll)], [float(m.y_roll)], color=f"C{j % 10}", marker="o"))
     top = "no rotation about Oy" if p.fan_top_spin == 0 else f"a rotation p0 = {p.fan_top_spin:g} rad/s about Oy"
     return FigureSpec("trajectories", "Euler's parabolas on the cloth, then the tangent (§II n°7)",
-                      "x (m), initial velocity along Ox", "y (m)", tuple(layers),
-                      caption=f"a = {p.fan_speed:g} m/s, f = {p.f:g}; dots: onset of rolling, at t1 = v0/(fg(1 + k))",
+                      "x (m), initial velocity along Ox", "y (m)", tuple(layers), aspect="equal", legend="below",
+                      caption=f"a = {p.fan_speed:g} m/s, f = {p.f:g}; equal scales on x and y; dots: onset of rolling, "
+                              "at $t_1 = v_0/(fg(1 + k))$",
                       reading=(
                           f"The path of the centre of a ball sent along Ox at {p.fan_speed:g} m/s with {top} and a "
                           f"rotation n0 about Ox (colours), on cloth of friction f = {p.f:g}: Euler's parabola while "

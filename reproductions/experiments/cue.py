@@ -351,14 +351,14 @@ def _figure_region(p: Params, epsp: float) -> FigureSpec:
     s, m = _after(p, epsp, ii, hh, p.fan_side)
     final = np.asarray(m.vx_roll) / p.V0p
     deg = np.degrees(incl)
-    layers = [layer("heatmap", deg, heights, z=final, label="final velocity along Ox / V′0", centre=0.0),
+    layers = [layer("heatmap", deg, heights, z=final, label="final velocity along Ox / $V′_0$", centre=0.0),
               layer("contour", deg, heights, z=final, label="final velocity 0 (retrograde to its right)", color="k")]
     phi_max = float(cue.miscue_angle(max(p.tip_friction)))
     phi = np.arccos(np.clip(np.asarray(s.cos_phi), -1, 1))  # beyond the tip's friction cone: a miscue
     layers.append(layer("contour", deg, heights, z=phi - phi_max, color="C1", style=":",
                         label=f"miscue outside the dotted band (tip friction {max(p.tip_friction):g})"))
-    layers.append(layer("contour", deg, heights, z=np.asarray(s.chi1) / p.V0p, label="χ1 = 0 (first of eqs 7)",
-                        color="k", style="--"))
+    layers.append(layer("contour", deg, heights, z=np.asarray(s.chi1) / p.V0p,
+                        label="$\\chi_1$ = 0 (first of eqs 7)", color="k", style="--"))
     both = (final < 0) & (phi <= phi_max)  # retrograde without a miscue
     inside = ("no retrograde stroke of the grid lies inside it." if not both.any() else
               f"only {both.sum() / max((final < 0).sum(), 1):.0%} of the retrograde strokes lie inside it, with the "

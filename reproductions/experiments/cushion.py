@@ -152,8 +152,8 @@ def _figure_error(theta: np.ndarray, spin: np.ndarray, err: np.ndarray) -> Figur
     i, j = np.unravel_index(np.argmax(err), err.shape)
     at = f"{math.degrees(theta[j]):.0f}°, p0R/V = {spin[i]:+.2f}".replace("-", "−")
     return FigureSpec("approximation-error", "Error of Résal's first-order eq. (11) in the rebound angle",
-                      "incidence angle (degrees from the normal)", "side spin p0R/V",
-                      (layer("heatmap", np.degrees(theta), spin, z=err, label="|angle(11) − angle(exact)| (deg)"),),
+                      "incidence angle (degrees from the normal)", "side spin $p_0R/V$",
+                      (layer("heatmap", np.degrees(theta), spin, z=err, label="|angle (11) − exact angle| (degrees)"),),
                       caption="ball rolling on the cloth into the cushion; exact: the ₂F₁ closed form",
                       reading=(
                           "How many degrees the rebound angle given by Résal's approximate eq. (11) differs from the "

@@ -629,46 +629,53 @@ def _figure_speeds(p: Params, h: HeadOn) -> FigureSpec:
     t = np.linspace(0.0, t_end, 126)
     layers = []
     z = np.zeros_like(h.s)
-    gap = {}
-    for name, v, Rw, colour, who in (("cue", "v1", "Rw1", "C0", "cue ball"),
-                                     ("target", "v1p", "Rw1p", "C3", "object ball")):
+    gap, start = {}, {}
+    for name, v, Rw, colour in (("cue", "v1", "Rw1", "C0"), ("target", "v1p", "Rw1p", "C3")):
         _, _, vx, _ = cloth.state_at(t, h.pred[v], z, z, h.pred[Rw] / ball.R, R=ball.R, k=ball.k, f=h.mug / ball.g,
                                      g=ball.g)
         lo, mid, hi = np.percentile(vx, [2.5, 50.0, 97.5], axis=0)
-        layers.append(layer("band", t, lo, hi, label="", color=colour))
-        layers.append(layer("line", t, mid, label=f"{who}: reading A (spin from its acceleration), median, 95 % band",
-                            color=colour))
+        layers.append(layer("band", t, lo, hi, color=colour))
+        layers.append(layer("line", t, mid, color=colour))
         if h.pred_nat is not None:
             _, _, vb, _ = cloth.state_at(t, h.pred_nat[v], z, z, h.pred_nat[Rw] / ball.R, R=ball.R, k=ball.k,
                                          f=h.mug / ball.g, g=ball.g)
-            layers.append(layer("line", t, np.percentile(vb, 50.0, axis=0),
-                                label=f"{who}: reading B (natural roll, e and f fitted), median", color=colour,
-                                style=":"))
+            layers.append(layer("line", t, np.percentile(vb, 50.0, axis=0), color=colour, style=":"))
         tp, vf, a = (p.get(f"{name}_sliding_time"), p.get(f"{name}_final_speed"),
                      p.get(f"{name}_sliding_acceleration"))
         gap[name] = quantiles(h.pred[f"{name}_final_speed"])[1] - vf.value
-        layers.append(layer("line", [0.0, tp.value, t_end], [vf.value - a.value * tp.value, vf.value, vf.value],
-                            label=f"{who}: published slope {a.value:g} ± {a.sigma:.2g} m/s², time, final speed",
-                            color=colour, style="--"))
-        layers.append(layer("points", [tp.value], [vf.value], label="", color=colour, marker="s"))
+        # the published slope holds while the ball slides, up to the published time; extended back towards the
+        # impact only as far as a speed can go: a speed below zero would not be a speed
+        start[name] = max(0.0, tp.value - vf.value / a.value) if a.value > 0 else 0.0
+        layers.append(layer("line", [start[name], tp.value, t_end],
+                            [vf.value - a.value * (tp.value - start[name]), vf.value, vf.value], color=colour,
+                            style="--"))
+        layers.append(layer("points", [tp.value], [vf.value], color=colour, marker="s"))
+    layers += [layer("line", label="cue ball", color="C0"), layer("line", label="object ball", color="C3"),
+               layer("band", label="reading A: median, 95 % band", color="0.4"),
+               layer("line", label="reading B: median", color="0.4", style=":"),
+               layer("line", label="published slope, final speed", color="0.4", style="--"),
+               layer("points", label="published sliding time", color="0.4", marker="s")]
     caption = f"Derby & Fuller 1999; A: s = {quantiles(h.s)[1]:.2f}, e = {quantiles(h.e)[1]:.3f}, f drawn"
     b_words = ""
     if h.e_nat is not None and h.f_nat is not None and h.pred_nat is not None:
-        caption += f"; B: s = 1, e = {quantiles(h.e_nat)[1]:.3f}, f = {quantiles(h.f_nat)[1]:.3f}"
+        caption += f"\nB: s = 1, e = {quantiles(h.e_nat)[1]:.3f}, f = {quantiles(h.f_nat)[1]:.3f}"
         b_words = (f" Dotted, reading B: natural roll into the impact, e and f fitted to both final speeds; both balls "
                    f"end on their published speeds by construction, after sliding "
                    f"{quantiles(h.pred_nat['cue_sliding_time'])[1]:.3f} s and "
                    f"{quantiles(h.pred_nat['target_sliding_time'])[1]:.3f} s.")
+    back = (f"the cue ball's from {start['cue']:.3f} s, where it reaches zero speed" if start["cue"] > 0 else
+            "the cue ball's from the impact")
     return FigureSpec(
         "head-on-speeds", "Speeds after a head-on collision (§VI then §II), two readings",
         "time after the impact (s)", "speed of the centre (m/s)", tuple(layers), (0.0, t_end), None,
         caption=caption,
         reading=(
-            "The speed of each ball's centre after the impact: dashed, the published final speed (square, at the "
-            "published sliding time) and the published acceleration extended back to the impact (the cue ball's "
-            "starts below zero). Solid, reading A: the cue ball's spin inferred from its published acceleration and "
-            f"time, f drawn from today's range, e fitted to the object ball; the cue ball ends {gap['cue']:.2f} m/s "
-            f"above its published speed." + b_words + " Which ball fits is the reading's doing, not the paper's."),
+            "The speed of each ball's centre after the impact (blue the cue ball, red the object ball): dashed, the "
+            "published final speed (square, at the published sliding time) and the published acceleration extended "
+            f"back towards the impact ({back}). Solid, reading A: the cue ball's spin inferred from its published "
+            "acceleration and time, f drawn from today's range, e fitted to the object ball; the cue ball ends "
+            f"{gap['cue']:.2f} m/s above its published speed." + b_words + " Which ball fits is the reading's doing, "
+            "not the paper's."),
         legend="below")
 
 
@@ -702,15 +709,16 @@ def _figure_verdicts(outcomes: dict[str, dict[str, Outcome]], comps: dict[str, C
                 layers.append(layer("line", [rel[0], rel[2]], [yy, yy], color=colour))
             layers.append(layer("points", [rel[1]], [yy], label=label, color=colour,
                                 marker="x" if fitted else ("s" if o.verdict == "restated" else "o")))
-        labels.append(_SHORT.get(q, q) + f" ({comps[q].verdict})")
+        labels.append(_SHORT.get(q, q) + f"\n{comps[q].verdict}")
     layers.append(layer("line", [0.0, 0.0], [-0.6, len(ids) - 0.4], label="prediction = measurement", color="0.3",
                         style=":"))
     consistent = {k: [_SHORT.get(q, q) for q in ids if outcomes[q].get(k) and outcomes[q][k].verdict == "consistent"]
                   for k in ("A", "B")}
     return FigureSpec(
         "head-on-verdicts", "Each published scalar against §VI then §II, two readings",
-        "(predicted − measured)/measured, 95 % interval", "",
+        "(predicted − measured)/measured", "",
         tuple(layers), None, (-0.6, len(ids) - 0.4), yticklabels=tuple(reversed(labels)),
+        caption="dot: median, bar: 95 % interval; cross: fitted; square: restates another row",
         reading=(
             "For each published number, how far the prediction of Résal's mechanics lies from it, as a fraction of "
             "it, with the 95 % interval of the difference (the prediction's and the measurement's uncertainties "

@@ -281,14 +281,16 @@ def _figures(m: Markers, model: mk.Model, fj: mk.MarkerFit, fa: mk.MarkerFit, re
     ct, lo_t, hi_t = mk.prediction_band(grid, fj, "throw", model)
     alone = mk.angles(grid, fa.f, fa.e, model)["alpha1"]
     fig_a = FigureSpec(
-        "oblique-alpha1", "The cue ball's turn α1 against the impact angle ψ", "impact angle ψ (deg, 0 = head-on)",
-        "α1 (deg)", (
+        "oblique-alpha1", "The cue ball's turn α1 against the impact angle ψ", "impact angle ψ (degrees, 0 = head-on)",
+        "$\\alpha_1$ (degrees)", (
             layer("band", grid, lo_a, hi_a, label="95 % band of the joint fit", color="C0"),
             layer("line", grid, 90 - grid, label="smooth elastic balls: 90° − ψ", color="C7", style=":"),
-            layer("line", grid, alone, label=f"α1 alone: f = {fa.f:.3f}, e = {fa.e:.3f}", color="C2", style="--"),
+            layer("line", grid, alone, label=f"$\\alpha_1$ alone: f = {fa.f:.3f}, e = {fa.e:.3f}", color="C2",
+                  style="--"),
             layer("line", grid, ca, label=fit_label, color="C0"),
             layer("errorbar", alpha.psi, alpha.obs, np.full(alpha.psi.size, 0.5),
                   label=f"Doménech-Carbó 2023 ({alpha.psi.size} markers, ±0.5°)", color="k", marker=".")),
+        legend="below",
         reading=("The angle the cue ball turns through at the impact, against the impact angle ψ: the markers, "
                  "Résal's §VI with the (f, e) fitted to both series (line and its 95 % band), the fit to α1 "
                  "alone (dashed) and smooth elastic balls (dotted). Friction and e < 1 both pull α1 a little "
@@ -296,13 +298,15 @@ def _figures(m: Markers, model: mk.Model, fj: mk.MarkerFit, fa: mk.MarkerFit, re
     sep = readings["sep_dev"]
     cue = readings["cue_dev"]
     fig_d = FigureSpec(
-        "oblique-delta2", "δ2 against ψ: which angle is it?", "impact angle ψ (deg, 0 = head-on)", "δ2 (deg)", (
+        "oblique-delta2", "δ2 against ψ: which angle is it?", "impact angle ψ (degrees, 0 = head-on)",
+        "$\\delta_2$ (degrees)", (
             layer("band", grid, lo_t, hi_t, label="95 % band of the joint fit", color="C0"),
             layer("line", grid, ct, label=f"(a) throw, {fit_label}", color="C0"),
             layer("line", grid, mk.angles(grid, sep.f, sep.e, model)["sep_dev"],
                   label=f"(b) 90° − separation, best fit f = {sep.f:.3f}, e = {sep.e:.3f}", color="C3", style="--"),
             layer("line", grid, mk.angles(grid, cue.f, cue.e, model)["cue_dev"],
-                  label=f"(c1) 90° − ψ − α1, best fit f = {cue.f:.3f}, e = {cue.e:.3f}", color="C2", style="--"),
+                  label=f"(c1) 90° − ψ − $\\alpha_1$, best fit f = {cue.f:.3f}, e = {cue.e:.3f}", color="C2",
+                  style="--"),
             layer("errorbar", throw.psi, throw.obs, np.full(throw.psi.size, 0.5),
                   label=f"Doménech-Carbó 2023 ({throw.psi.size} markers, ±0.5°)", color="k", marker=".")),
         ylim=(-0.2, 8.0), legend="below",
@@ -313,19 +317,19 @@ def _figures(m: Markers, model: mk.Model, fj: mk.MarkerFit, fa: mk.MarkerFit, re
                  f"{sep.m2lnl:.1f}); (c1) does not ({cue.m2lnl:.1f}): its kink is where, with its large f, the contact "
                  "stops slipping during the impact (at smaller ψ)."))
     panels = []
-    for part, s, title in ((alpha, slopes[0], "α1"), (throw, slopes[1], "δ2 read as throw")):
+    for part, s, title in ((alpha, slopes[0], "$\\alpha_1$"), (throw, slopes[1], "$\\delta_2$ read as throw")):
         res = part.obs - mk.angles(part.psi, fj.f, fj.e, model)[part.key]
         line = np.mean(res) + s.slope * (grid - np.mean(part.psi))
         panels.append(FigureSpec(
             f"residuals-{part.key}",
-            f"{title}\ntrend {s.slope * 10:+.2f} ± {s.stderr * 10:.2f}°/10°, p = {_p(s.p)}",
-            "impact angle ψ (deg, 0 = head-on)", "measured − §VI (deg)", (
+            f"{title}: trend {s.slope * 10:+.2f} ± {s.stderr * 10:.2f}° per 10°, p = {_p(s.p)}",
+            "", "", (
                 layer("hband", (), [-0.5, 0.5], color="C7"),
                 layer("points", part.psi, res, color="k", marker="."),
                 layer("line", grid, line, color="C3"))))
     fig_r = FigureSpec(
-        "oblique-residuals", "Residuals of the joint fit against ψ", "impact angle ψ (deg, 0 = head-on)",
-        "measured − §VI (deg)", (), panels=tuple(panels), columns=2,
+        "oblique-residuals", "Residuals of the joint fit against ψ", "impact angle ψ (degrees, 0 = head-on)",
+        "measured − §VI (degrees)", (), panels=tuple(panels), columns=1,
         reading=("What the joint fit leaves, marker by marker (dots), against ψ, with the least-squares line through "
                  "them (red) and the ±0.5° digitisation error (grey): a constant friction through the impact (§VI) "
                  "leaves no trend. α1 shows none; the throw's residuals fall with ψ "

@@ -286,8 +286,8 @@ def _figure(p: Params, fit: FitResult, comb: float, mu: float, paper_epsp: float
     return FigureSpec("pendulum", "Coriolis's pendulum: the pairs (ε, ε′) the data allow",
                       f"ε of the striking body ({p.striker.name})", f"ε′ of the struck body ({p.struck.name})",
                       tuple(layers), (0.0, 1.0), (0.0, 0.5),
-                      f"One equation for two unknowns: every point of the segment reproduces V1 = {p.ratio:.4g} V0 "
-                      f"and V1′ = {p.ratio_p:.4g} V0.",
+                      f"One equation for two unknowns: every point of the segment reproduces $V_1$ = {p.ratio:.4g} "
+                      f"$V_0$ and $V′_1$ = {p.ratio_p:.4g} $V_0$.",
                       reading=(
                           f"The pairs of Résal's coefficients, ε of the {p.striker.name} and ε′ of the "
                           f"{p.struck.name}, that reproduce Coriolis's two measured speeds: they all lie on the line "

@@ -223,13 +223,13 @@ def _figure_ratio(p: Params, r: float, eps: float, exp: Experiment) -> FigureSpe
                         f"{m['high']:g}), means ε from {lo:.2f} to {hi:.2f}")
         said = "" if printed is None else f" (printed {printed:g})"
         return FigureSpec("eps-vs-ratio", "ε against the measured velocity ratio (eq. 9)",
-                          "velocity ratio r = −V1/V0", "Résal's ε", tuple(layers), (0, 1), (0, 1),
+                          "velocity ratio $r = -V_1/V_0$", "Résal's ε", tuple(layers), (0, 1), (0, 1),
                           reading=(
                               "Résal's coefficient ε against the measured ratio r of the rebound speed to the impact "
                               "speed, from eq. (9): ε = (1 − r)/(1 + r), 0 for a perfect rebound and 1 for none. "
                               f"Coriolis's ratio {r:.3g} gives ε = {eps:.4f}{said}" + band + "."))
     e = np.linspace(0.0, 1.0, 201)
-    layers = [layer("line", e, impact.velocity_ratio_from_eps(e) ** 2, label="h1/h0 = ((1 − ε)/(1 + ε))², eq. (9)"),
+    layers = [layer("line", e, impact.velocity_ratio_from_eps(e) ** 2, label="$h_1/h_0$ = ((1 − ε)/(1 + ε))², eq. (9)"),
               layer("points", [eps], [p.value], label=f"computed: ε = {eps:.4f}", color="C3")]
     if printed is not None:
         layers.append(layer("points", [printed], [p.value], label=f"printed: ε = {printed:g}", color="C1", marker="x"))
@@ -239,7 +239,7 @@ def _figure_ratio(p: Params, r: float, eps: float, exp: Experiment) -> FigureSpe
         f"; the printed ε = {printed:g} (cross) lies off the curve and would give "
         f"{float(impact.velocity_ratio_from_eps(printed)) ** 2:.3f} (square)")
     return FigureSpec("height-vs-eps", "Rebound height ratio against ε (eq. 9)", "Résal's ε",
-                      "rebound height ratio h1/h0", tuple(layers), (0, 1), (0, 1),
+                      "rebound height ratio $h_1/h_0$", tuple(layers), (0, 1), (0, 1),
                       reading=(
                           "How high a ball dropped on a slab rebounds, as a fraction of its drop height, against "
                           "Résal's ε: with free fall, eq. (9) gives h1/h0 = ((1 − ε)/(1 + ε))². The paper's rebound "
@@ -247,21 +247,33 @@ def _figure_ratio(p: Params, r: float, eps: float, exp: Experiment) -> FigureSpe
 
 
 def _figure_series(data: tuple[np.ndarray, np.ndarray, str], fit: FitResult, r: float, p: Params) -> FigureSpec:
+    """The series and its fit: the speeds (upper panel), and each point's ratio −V1/V0 (lower panel), where the
+    fit's ratio and its 95 % interval stand out from the points' scatter (on the speeds they are one line)."""
     V0, V1, label = data
     est = fit.estimates[0]
     x = np.linspace(0.0, float(V0.max()) * 1.05, 50)
-    layers = [layer("points", V0, -V1, label=label, color="C0"),
-              layer("line", x, -impact.infinite_mass_impact(x, eps=est.value), label=f"fit: ε = {est.value:.4f}",
-                    color="C3")]
-    if est.ci95[0] is not None:
-        layers.append(layer("band", x, -impact.infinite_mass_impact(x, eps=est.ci95[1]),
-                            -impact.infinite_mass_impact(x, eps=est.ci95[0]), label="95 % interval of ε", color="C3"))
-    layers.append(layer("line", x, r * x, label=f"paper's ratio {r:.4g}", color="C7", style="--"))
+    ratio = float(-impact.infinite_mass_impact(1.0, eps=est.value))
+    speeds = [layer("points", V0, -V1, label="SYNTHETIC series" if "SYNTHETIC" in label.upper() else "measured series",
+                    color="C0"),
+              layer("line", x, ratio * x, label=f"fit: ε = {est.value:.4f}", color="C3")]
+    ratios = [layer("points", V0, -V1 / V0, color="C0"),
+              layer("line", [0.0, x[-1]], [ratio, ratio], color="C3")]
+    band = ""
+    if est.ci95[0] is not None and est.ci95[1] is not None:
+        lo, hi = (float(-impact.infinite_mass_impact(1.0, eps=e)) for e in (est.ci95[1], est.ci95[0]))
+        speeds.append(layer("band", x, lo * x, hi * x, label="95 % interval of ε", color="C3"))
+        ratios.append(layer("band", [0.0, x[-1]], [lo, lo], [hi, hi], color="C3"))
+        band = f" and its 95 % interval (shaded: a ratio from {lo:.4f} to {hi:.4f})"
+    speeds.append(layer("line", x, r * x, label=f"paper's ratio {r:.4g}", color="C7", style="--"))
+    ratios.append(layer("line", [0.0, x[-1]], [r, r], color="C7", style="--"))
     what = ("Synthetic rebound speeds generated with the paper's ratio (Coriolis's measurements are not printed)"
             if "SYNTHETIC" in label.upper() else "Measured rebound speeds")
-    return FigureSpec("series", "Rebound speed against impact speed", "impact speed V0 (m/s)",
-                      "rebound speed −V1 (m/s)", tuple(layers), caption=label,
+    return FigureSpec("series", "Rebound speed against impact speed", "impact speed $V_0$ (m/s)", "",
+                      (), caption=label, legend="below", heights=(2.0, 1.3), panels=(
+                          FigureSpec("series-speeds", "", "", "rebound speed $-V_1$ (m/s)", tuple(speeds)),
+                          FigureSpec("series-ratio", "", "", "ratio $-V_1/V_0$", tuple(ratios))),
                       reading=(
                           f"{what}, against the impact speed, with the straight line of eq. (9) fitted to them "
-                          f"(ε = {est.value:.4f}) and the paper's ratio {r:.4g} (dashed). A ratio that does not depend "
-                          "on the speed, as Coriolis found, puts the points on one line through the origin."))
+                          f"(ε = {est.value:.4f}){band} and the paper's ratio {r:.4g} (dashed). A ratio that does "
+                          "not depend on the speed, as Coriolis found, puts the points on one line through the "
+                          "origin; the lower panel shows each point's ratio, where the fit is a level line."))

@@ -403,13 +403,14 @@ def _figure_separation(p: Params, sep: Separation) -> FigureSpec:
         style = styles[k % len(styles)]
         xs = [sp.lo_deg, sp.hi_deg]
         layers.append(layer("line", xs, [float(row[0])] * 2, color="C0", style=style,
-                            label=f"means, {sp.label}: {float(row[0]):.1f}° smooth, {float(row[i_typ]):.1f}° with f"))
+                            label=f"means, {sp.label}"))
         layers.append(layer("line", xs, [float(row[i_typ])] * 2, color="C1", style=style))
     lo_th, hi_th = float(sep.table.min()), float(sep.table.max())
     return FigureSpec(
-        "separation-angle", "Angle between the two balls' directions after an oblique impact", "cut angle ψ (degrees)",
+        "separation-angle", "Separation angle of the two balls after an oblique impact", "cut angle ψ (degrees)",
         "separation angle θ (degrees)", tuple(layers), (0.0, 90.0), (40.0, 92.0),
-        caption=f"Sudo & Shibata 2002: e = {sep.e:g}, mean separation {th:g}°; shots' spread not published",
+        caption=f"Sudo & Shibata 2002: e = {sep.e:g}, mean {th:g}°, spread of shots not published; segments: "
+                "means over a spread (blue smooth, orange with f)",
         reading=(
             "The angle between the cue ball's and the object ball's directions right after the impact, against the "
             "cut angle: 90° for smooth elastic balls, less with e < 1 (blue) and less again with friction (orange); "

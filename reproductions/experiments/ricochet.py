@@ -112,10 +112,10 @@ def parse(node: Node, base: Path) -> Params:
         at = s._mapping()["id"]
         if not SURFACE_ID.fullmatch(sid):
             raise s.fail(f"'{s.path}.id' must be a plain name (letters, digits, hyphens, underscores; it names "
-                         f"the figure file ricochet-<id> and the quantity nu.<id>), got '{sid}'", at)
+                         f"a panel of the figure ricochets and the quantity nu.<id>), got '{sid}'", at)
         if sid.lower() in seen:
             raise s.fail(f"'{s.path}.id' repeats the surface id '{seen[sid.lower()]}' (surface ids must be unique, "
-                         "ignoring case: each names a figure file and a quantity)", at)
+                         "ignoring case: each names a panel of a figure and a quantity)", at)
         seen[sid.lower()] = sid
         name = s.string("name")
         if s.has("csv") == s.has("synthetic"):
@@ -486,6 +486,7 @@ def run(exp: Experiment) -> Reproduction:
     fits: list[FitRow] = []
     ident: list[dict] = []
     figures: list[FigureSpec] = []
+    sequences: list[tuple[Surface, np.ndarray, FitResult, bool]] = []
     rows_est: list[tuple] = []
     for i, s in enumerate(p.surfaces):
         if s.synthetic is not None:
@@ -528,10 +529,13 @@ def run(exp: Experiment) -> Reproduction:
             "a measurement: Rozé's mean ν on this surface; his series are not printed, and the synthetic series, "
             "generated with the mean of the params, only "
             "exercises the fit (see the fits)" if s.synthetic is not None else "fit of the measured imprints")
-        figures.append(_figure_sequence(p, s, x, shown, t is not None))
+        sequences.append((s, x, shown, t is not None))
         if s.synthetic is not None:
             rows_est += _compare_estimators(p, s, exp.seed + 1000 * (i + 1))
-    figures += _figures_error_maps(p)
+    figures.append(_figure_ricochets(p, sequences))
+    # the error maps' line of Rozé's two digits: the tolerance of row eq9_beyond (0,5 %, as premise_9)
+    figures += _figures_error_maps(p, next((x.tolerance for x in exp.printed if x.computed == "eq9_beyond"
+                                            and x.tolerance), 0.005))
     tables = ()
     if rows_est:
         tables = (TableSpec("estimators", "ν from imprint positions and from flight times (synthetic, many seeds)",
@@ -560,7 +564,9 @@ def _compare_estimators(p: Params, s: Surface, seed: int) -> list[tuple]:
     return out
 
 
-def _figure_sequence(p: Params, s: Surface, x: np.ndarray, fit: FitResult, heights_known: bool) -> FigureSpec:
+def _panel_sequence(p: Params, s: Surface, x: np.ndarray, fit: FitResult) -> tuple[FigureSpec, str]:
+    """One surface's panel of the figure ``ricochets`` (the fitted path of the centre over the imprints) and the
+    words of the reading about it."""
     nu, f, a0, alpha0 = fit.point
     r = plane.ricochet(a0, alpha0, p.p0_fit, R=p.R, k=p.k, f=f, nu=nu, g=p.g, n=x.size - 1)
     xs, zs = [], []
@@ -568,61 +574,96 @@ def _figure_sequence(p: Params, s: Surface, x: np.ndarray, fit: FitResult, heigh
         tt = np.linspace(0.0, r.times[j], 30)
         xs.append(r.imprints[j] + r.chi[j] * tt)
         zs.append(p.R + r.zeta[j] * tt - 0.5 * p.g * tt**2)
-    kind = "SYNTHETIC " if s.synthetic is not None else ""
-    slides = ", ".join(str(i + 1) for i in np.nonzero(r.regimes == Regime.SLIDE)[0]) or "none"
+    slides = np.nonzero(r.regimes == Regime.SLIDE)[0] + 1
     ranges = np.diff(x)
-    origin = "; synthetic, since Rozé's series are not printed" if s.synthetic is not None else ""
-    n_slide = int(np.sum(r.regimes == Regime.SLIDE))
-    regimes = ("the contact grips at every impact" if n_slide == 0 else
-               "the contact slides at every impact" if n_slide == r.regimes.size else
-               f"the contact slides at impact{'s' if n_slide > 1 else ''} {slides} and grips at the others")
+    n_slide = slides.size
+    regimes = ("grips at every impact" if n_slide == 0 else "slides at every impact" if n_slide == r.regimes.size
+               else f"slides at impact{'s' if n_slide > 1 else ''} {', '.join(map(str, slides))} and grips at the "
+                    "others")
+    where = ("slides at every impact" if n_slide == r.regimes.size else "grips at every impact" if n_slide == 0 else
+             f"slides at {', '.join(map(str, slides))}")
+    kind = "SYNTHETIC " if s.synthetic is not None else ""
+    panel = FigureSpec(
+        f"ricochet-{s.id}", f"{s.name}\n$\\nu$ = {nu:.3f}; {where}", "", "",
+        (layer("line", np.concatenate(xs), np.concatenate(zs), label="fitted model: path of the centre", color="C0"),
+         layer("points", x, np.zeros_like(x), label=f"{kind}imprints", color="C3", marker="|")))
+    words = (f"on {s.name}, ν = {nu:.3f}, the ranges falling from {ranges[0] * 100:.1f} cm to "
+             f"{ranges[-1] * 100:.1f} cm over {x.size} imprints, and the contact {regimes}")
+    return panel, words
+
+
+def _figure_ricochets(p: Params, shown: list[tuple[Surface, np.ndarray, FitResult, bool]]) -> FigureSpec:
+    """The fitted ricochets of every surface, a panel each, two panels a row."""
+    panels, words = zip(*(_panel_sequence(p, s, x, fit) for s, x, fit, _ in shown), strict=True)
+    synthetic = all(s.synthetic is not None for s, *_ in shown)
+    guessed = [s.name for s, _, _, heights_known in shown if not heights_known]
+    caption = ("SYNTHETIC series (Rozé's are not printed)" if synthetic else
+               "imprints measured" if not any(s.synthetic is not None for s, *_ in shown) else
+               "measured and SYNTHETIC series")
+    caption += "; slides at: the impacts where the contact slides"
+    if guessed:
+        caption += "; heights illustrative where only positions are known"
+    origin = "; synthetic, since Rozé's series are not printed" if synthetic else ""
     return FigureSpec(
-        f"ricochet-{s.id}", f"Ricochets on {s.name}", "x along the plane (m)", "height of the centre (m)",
-        (layer("line", np.concatenate(xs), np.concatenate(zs), label=f"fitted model: ν = {nu:.3f}", color="C0"),
-         layer("points", x, np.zeros_like(x), label=f"{kind}imprints ({x.size})", color="C3", marker="|")),
-        caption=f"{kind}series; slides at impacts {slides}"
-                + ("" if heights_known else "; heights illustrative: α0 is not determined by positions alone"),
-        reading=f"The path of the ball's centre over {s.name}, drawn by the model fitted to the imprints (red ticks"
-                f"{origin}). Each flight is shorter than the one before, by a factor close to the fitted "
-                f"ν = {nu:.3f} (the ranges fall from {ranges[0] * 100:.1f} cm to {ranges[-1] * 100:.1f} cm); "
-                f"{regimes}" + ("." if heights_known else "; the heights only illustrate, since positions alone do "
-                                                          "not fix α0."))
+        "ricochets", f"Ricochets on {len(shown)} surface{'s' if len(shown) > 1 else ''}, fitted to their imprints",
+        "x along the plane (m)", "height of the centre (m)", (), caption=caption, panels=tuple(panels), columns=2,
+        sharey=True, legend="below",
+        reading=(f"The path of the ball's centre over each surface (one panel each), drawn by the model fitted to the "
+                 f"imprints (red ticks{origin}). Each flight is shorter than the one before, by a factor close to "
+                 "the fitted ν: " + "; ".join(words) + "."
+                 + ("" if not guessed else f" The heights of {', '.join(guessed)} only illustrate, since positions "
+                                           "alone do not fix α0.")))
 
 
-def _figures_error_maps(p: Params) -> list[FigureSpec]:
-    alpha = np.linspace(0.005, p.map_alpha_max, 120)
-    f = np.linspace(0.0, p.map_f_max, 100)
-    A, F = np.meshgrid(alpha, f, indexing="xy")  # rows: f, columns: α0
-    exact = plane.range_ratio_exact(A, f=F, nu=p.map_nu, k=p.k)
-    boundary_alpha = np.degrees(np.arctan(1.0 / np.maximum(f * (1 + p.k) * (1 + p.map_nu), 1e-12)))
-    keep = boundary_alpha <= np.degrees(p.map_alpha_max)
-    out = []
+def _figures_error_maps(p: Params, tolerance: float) -> list[FigureSpec]:
+    """The relative error of (8) and of (9) over α0 and f, with the line where it reaches ``tolerance``. (9)'s on
+    logarithmic axes: its error grows as f tan α0, and only there does the corner where it holds show."""
+    tol = f"{tolerance * 100:g} %"
     texts = {
         "error-eq8": (
-            "Left of the dashed line the contact slides through the impact and (8) is exact (drawn at the floor 1e-6).",
+            f"ν = {p.map_nu:g}, no spin. Left of the dashed line the contact slides through the impact and (8) is "
+            "exact (drawn at the floor $10^{-6}$).",
             "How far Résal's eq. (8), P1/P0 = ν[1 − f(1 + ν) tan α0], is from the exact ratio of two successive "
-            "ranges, over the incidence α0 and the friction f (colour: log10 of the relative error). Where the contact "
-            "slides through the impact (left of the dashed line) it is exact; beyond, where the contact grips, its "
-            "error grows quickly with α0 and f."),
+            "ranges, over the incidence α0 and the friction f (colour: the relative error, on a logarithmic scale). "
+            "Where the contact slides through the impact (left of the dashed line) it is exact; beyond, where the "
+            f"contact grips, its error jumps past {tol} (Rozé's two digits, red line) and grows with α0 and f."),
         "error-eq9": (
-            f"Left of the dashed line (9) errs by about the dropped term f(1 + ν) tan α0; right of it (grip) by "
-            f"1/k = {1 / p.k:.2g}.",
-            "How far eq. (9), P1/P0 = ν, is from the exact ratio of two successive ranges (colour: log10 of the "
-            "relative error). It is good only near the axes, where f tan α0 is small, the premise Résal states; "
-            f"where the contact grips (right of the dashed line) a ball without spin keeps only k/(1 + k) of its "
-            f"horizontal speed and (9) errs by 1/k = {1 / p.k:.2g}."),
+            f"ν = {p.map_nu:g}, no spin; both axes logarithmic. Left of the dashed line (9) errs by about the dropped "
+            f"term $f(1 + \\nu)\\tan\\alpha_0$; right of it (grip) by 1/k = {1 / p.k:.2g}.",
+            "How far eq. (9), P1/P0 = ν, is from the exact ratio of two successive ranges, over the incidence α0 "
+            "and the friction f, both on logarithmic scales (colour: the relative error). It holds to Rozé's two "
+            f"digits ({tol}) only below the red line, where f tan α0 is small, the premise Résal states; the error "
+            f"reaches 5 % on the dotted line, and where the contact grips (right of the dashed line) a ball without "
+            f"spin keeps only k/(1 + k) of its horizontal speed and (9) errs by 1/k = {1 / p.k:.2g}."),
     }
-    for name, approx, title in (("error-eq8", plane.range_ratio_resal(A, f=F, nu=p.map_nu), "eq. (8)"),
-                                ("error-eq9", plane.range_ratio_small_angle(np.full_like(A, p.map_nu)), "eq. (9)")):
+    out = []
+    for name, title in (("error-eq8", "eq. (8)"), ("error-eq9", "eq. (9)")):
+        if name == "error-eq8":
+            alpha, f, scale = np.linspace(0.005, p.map_alpha_max, 120), np.linspace(0.0, p.map_f_max, 100), "linear"
+        else:
+            alpha = np.radians(np.geomspace(0.1, np.degrees(p.map_alpha_max), 120))
+            f, scale = np.geomspace(0.002, p.map_f_max, 100), "log"
+        A, F = np.meshgrid(alpha, f, indexing="xy")  # rows: f, columns: α0
+        exact = plane.range_ratio_exact(A, f=F, nu=p.map_nu, k=p.k)
+        approx = (plane.range_ratio_resal(A, f=F, nu=p.map_nu) if name == "error-eq8" else
+                  plane.range_ratio_small_angle(np.full_like(A, p.map_nu)))
         err = np.clip(np.abs(approx - exact) / np.abs(exact), 1e-6, None)
+        boundary_alpha = np.degrees(np.arctan(1.0 / np.maximum(f * (1 + p.k) * (1 + p.map_nu), 1e-12)))
+        keep = boundary_alpha <= np.degrees(p.map_alpha_max)
+        deg = np.degrees(alpha)
+        layers = [layer("heatmap", deg, f, z=err, label="relative error", norm="log"),
+                  layer("contour", deg, f, z=np.log(err / tolerance), label=f"error {tol} (Rozé's two digits)",
+                        color="C3")]
+        if name == "error-eq9":
+            layers.append(layer("contour", deg, f, z=np.log(err / 0.05), label="error 5 %", color="C3", style=":"))
+        layers.append(layer("line", boundary_alpha[keep], f[keep], label="slide / grip boundary (first impact)",
+                            color="k", style="--"))
         caption, reading = texts[name]
+        lims = ((0.0, float(np.degrees(p.map_alpha_max))), (0.0, p.map_f_max)) if scale == "linear" else \
+            ((float(deg[0]), float(deg[-1])), (float(f[0]), float(f[-1])))
         out.append(FigureSpec(
-            name, f"Relative error of {title} against the exact range ratio (ν = {p.map_nu:g}, no spin)",
-            "α0 (degrees)", "f",
-            (layer("heatmap", np.degrees(alpha), f, z=np.log10(err), label="log10 relative error"),
-             layer("line", boundary_alpha[keep], f[keep], label="slide / grip boundary (first impact)",
-                   color="w", style="--")),
-            (0.0, float(np.degrees(p.map_alpha_max))), (0.0, p.map_f_max), caption, reading))
+            name, f"Relative error of {title} against the exact range ratio", "$\\alpha_0$ (degrees)", "f",
+            tuple(layers), *lims, caption, reading, legend="below", xscale=scale, yscale=scale))
     return out
 
 
@@ -640,7 +681,7 @@ def _figure_estimators(rows: list[tuple], names: dict[str, str]) -> FigureSpec:
     return FigureSpec("estimators", "Bias and spread of the two ν estimators (synthetic)",
                       f"surface (synthetic series, {rows[0][7]} seeds each)", "ν̂ − ν", tuple(layers),
                       (-0.5, len(surfaces) - 0.5),
-                      xticklabels=tuple(textwrap.fill(names.get(sid, sid), 16) for sid in surfaces),
+                      xticklabels=tuple(textwrap.fill(names.get(sid, sid), 10) for sid in surfaces),
                       reading=f"For each surface, the error of ν fitted to {rows[0][7]} synthetic series generated "
                               "with a known ν: the dot is the mean error (the bias), the bar one standard deviation. "
                               f"Flight times give ν with a spread of at most {sd['flight times']:.1g}; imprint "
