@@ -91,7 +91,7 @@ def test_the_pdf_sets_every_measurement_and_cites_its_page(tmp_path):
     for m in MEASURED["measurements"]:  # each its table, its head the id and the verdict
         assert f"{m['id']} {VERDICT_LABEL[m['verdict']]}" in part
         assert m["measured_text"] in part
-    assert "cue_final_speed (p. " in text and "(p. ?" not in text  # the finding cites the page of its row
+    assert "measured (p. " in text and "(p. ?" not in text  # the finding cites the page of its measurement
 
 
 def test_a_summary_and_its_tables_carry_the_measurements():
