@@ -75,7 +75,7 @@ def code_provenance() -> dict[str, Any]:
     from importlib import metadata
 
     deps: dict[str, str | None] = {}
-    for name in ("numpy", "scipy", "matplotlib", "rich", "typer", "PyYAML"):
+    for name in ("numpy", "scipy", "matplotlib", "rich", "typer", "PyYAML", "typst", "latex2mathml"):
         try:
             deps[name] = metadata.version(name)
         except metadata.PackageNotFoundError:
