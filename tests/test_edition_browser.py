@@ -200,6 +200,10 @@ def test_a_phone_wide_screen_needs_no_sideways_scrolling(browser, edition):
             "body *", "els => els.filter(e => !e.closest('math') && e.getBoundingClientRect().right > "
                       "document.documentElement.clientWidth + 1).map(e => e.tagName + '#' + e.id).slice(0, 5)")
         assert over == []
+        # a figure spans the phone's width: tests/test_figures.py holds every figure's text at 9 CSS px or more
+        # when the figure is 375 px wide
+        widths = page.eval_on_selector_all("figure img", "els => els.map(e => e.getBoundingClientRect().width)")
+        assert widths and min(widths) >= 374, min(widths)
 
 
 def test_the_first_screen_is_the_answer(browser, edition):

@@ -89,7 +89,7 @@ def test_the_pdf_sets_every_measurement_and_cites_its_page(tmp_path):
     part = text[text.rindex("The 1883 theory against today's measurements"):]  # the part, not the contents
     assert "3 measurements: 1 consistent, 1 inconsistent, 1 fitted." in part  # apart, by their own verdicts
     for m in MEASURED["measurements"]:  # each its table, its head the id and the verdict
-        assert f"{m['id']} {VERDICT_LABEL[m['verdict']]}" in part
+        assert f"{m['source']} {VERDICT_LABEL[m['verdict']]}" in part and f"row {m['id']} ·" in part
         assert m["measured_text"] in part
     assert "measured (p. " in text and "(p. ?" not in text  # the finding cites the page of its measurement
 

@@ -312,9 +312,12 @@ def test_links_to_rows_to_the_facsimile_and_to_dois(rendered):
 
 
 def test_each_finding_cites_the_page_of_its_rows(rendered):
-    def page_of(row: RowEntry) -> int:
-        head = f"{row.id} {row.section}"
-        return next(k for k, p in enumerate(rendered.pages, 1) if head in _norm(p))
+    def pages_of(row: RowEntry) -> set[int]:
+        """The page of a row's last line (its id, in its developers' line) and the one before: its table starts on
+        one of them (a row's cells never split, its table may)."""
+        tail = f"row {row.id} ·"
+        k = next(k for k, p in enumerate(rendered.pages, 1) if tail in _norm(p))
+        return {k, k - 1}
 
     rows = {r.anchor: r for s in rendered.ed.sections for r in s.rows}
     for f in rendered.ed.findings:
@@ -322,7 +325,8 @@ def test_each_finding_cites_the_page_of_its_rows(rendered):
             if anchor in rows:
                 r = rows[anchor]
                 where = r.section + (f", {r.equation}" if r.equation else "")
-                assert f"{where} (p. {page_of(r)}:" in rendered.text, anchor
+                cited = re.findall(rf"{re.escape(where)} \(p\. (\d+):", rendered.text)
+                assert cited and {int(c) for c in cited} & pages_of(r), anchor
             else:
                 assert "measured (p. " in rendered.text
     assert "(p. ?" not in rendered.text
@@ -338,11 +342,11 @@ def test_rows_are_tables_that_say_everything(rendered):
         for word in (r.computed, r.difference, r.tolerance, r.evidence, r.config, r.function):
             assert _flat(word) in text
     for section in rendered.ed.sections:
-        for r in section.rows:  # its head: id, where, the facsimile's page, the verdict and the reason
-            head = _norm(f"{r.id} {et._where(r)}")
-            line = next(ln for p in rendered.pages for ln in p.splitlines() if _norm(ln).startswith(head))
+        for r in section.rows:  # its head: where, the facsimile's page, the verdict and the reason (its id is in
+            head = _norm(et._where(r))  # its developers' line, not the reader's)
             page = r.page if r.page is not None else section.page
-            assert f"p. {page} of 1883" in line
+            line = next(ln for p in rendered.pages for ln in p.splitlines() if _norm(ln).startswith(head)
+                        and VERDICT_LABEL[r.verdict] in ln and f"p. {page} of 1883" in ln)
             assert VERDICT_LABEL[r.verdict] in line and (r.reason in line if r.reason else True), line
     # the tagged PDF: one table per row and measurement, beside the kinds of error and the glossary
     tables = len(re.findall(rb"/S\s*/Table\b", _streams(rendered.pdf)))
@@ -387,7 +391,7 @@ def test_every_measurement_in_its_part(rendered):
     part = rendered.text[rendered.text.rindex("The 1883 theory against today's measurements"):]
     for s in rendered.ed.measured_sections:
         for m in s.measurements:
-            assert f"{m.id} {VERDICT_LABEL[m.verdict]}" in part
+            assert f"{m.source} {VERDICT_LABEL[m.verdict]}" in part and f"row {m.id} ·" in part
             assert m.measured in part and m.predicted in part
     assert "measured (p. " in rendered.text  # a finding links a measurement
 
@@ -487,7 +491,7 @@ def test_hostile_text_comes_out_verbatim(tmp_path):
     text = _flat(rendered.text)
     assert text.count(_flat(HOSTILE)) >= 8  # question, answer, history, finding, note, printed, English, evidence
     assert _flat("= " + HOSTILE) in text and _flat("// " + HOSTILE) in text
-    assert _flat(f"{HOSTILE_ID} §I n°1") in text  # the row's id, in its head; its label made safe
+    assert _flat(f"row {HOSTILE_ID} ·") in text  # the row's id, in its developers' line; its label made safe
     assert f"{evil.section}{', ' + evil.equation if evil.equation else ''} (p. " in rendered.text  # the finding
     # links it, by its place in the paper (the id is not the reader's)
 
@@ -550,9 +554,9 @@ def test_the_real_edition(reproduced_all, tmp_path):
     flat = _flat(r.text)
     for s in (*ed.sections, *ed.measured_sections):
         for row in s.rows:
-            assert _flat(f"{row.id} {et._where(row)}") in flat, row.anchor
+            assert _flat(f"row {row.id} ·") in flat and _flat(et._where(row)) in flat, row.anchor
         for m in s.measurements:
-            assert _flat(f"{m.id} {VERDICT_LABEL[m.verdict]}") in flat, m.anchor
+            assert _flat(f"row {m.id} ·") in flat, m.anchor
         for f in s.figures:
             assert _flat(f.title.rstrip(". ") + ".") in flat, f.png
     assert "figure missing" not in r.text

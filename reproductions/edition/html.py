@@ -130,7 +130,8 @@ def _dev(items: list[tuple[str, str]]) -> str:
 def _page_link(page: int | None) -> str:
     if page is None:
         return f'<a href="{_h(FACSIMILE_ITEM)}">the facsimile</a>'
-    return f'<a href="{_h(facsimile(page))}">p.&nbsp;{page} of 1883</a>'
+    return (f'<a href="{_h(facsimile(page))}" title="the facsimile of 1883 (NUMDAM) at the page where this section '
+            f'starts">1883, from p.&nbsp;{page}</a>')
 
 
 def _tolerance(r: RowEntry) -> str:

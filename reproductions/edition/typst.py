@@ -201,7 +201,7 @@ def _where(r: RowEntry) -> str:
 
 def _row(r: RowEntry, s: SectionEntry) -> str:
     page = r.page if r.page is not None else s.page
-    where = f"[#{_q(_where(r))}" + (f" · {_fac(page)}]" if page is not None else "]")
+    where = f"[{_fac(page)}]" if page is not None else "[]"
     numbers = (r.printed_value, r.computed, r.difference, r.tolerance)
     found = r.evidence or (f"{VERDICT_LABEL[r.verdict]}: printed {r.printed_value}, computed {r.computed}"
                            if r.printed_value not in ("", "—") else
@@ -209,14 +209,15 @@ def _row(r: RowEntry, s: SectionEntry) -> str:
                            f"{VERDICT_LABEL[r.verdict]}")
     why = f"{r.reason}: {r.reason_label}" if r.reason_label else r.reason
     fields = {
-        "id": _s(r.id), "where": where, "verdict": _q(r.verdict), "verdict-label": _q(VERDICT_LABEL[r.verdict]),
+        "id": _s(_where(r)), "where": where, "verdict": _q(r.verdict), "verdict-label": _q(VERDICT_LABEL[r.verdict]),
         "reason": _q(r.reason) if r.reason else "none", "claim": _rich(r.quantity) if r.quantity else _s("—"),
         "printed": _rich(r.printed) if r.printed else _s("—"), "english": _rich(r.english),
         "numbers": "true" if any(x not in ("", "—") for x in numbers) else "false",
-        "printed-value": _s(r.printed_value or "—"), "computed": _s(r.computed or "—"),
-        "difference": _s(r.difference or "—"), "tolerance": _s(r.tolerance or "—"), "found": _rich(found),
+        "printed-value": _s(r.printed_value or "—"), "computed": _s(plain_number(r.computed or "—")),
+        "difference": _s(plain_number(r.difference or "—")), "tolerance": _s(plain_number(r.tolerance or "—")),
+        "found": _rich(found),
         "why": _rich(why), "rule": _rich(r.tolerance_rule), "note": _rich(r.note), "today": _rich(r.today),
-        "defined": f"[#raw({_q(r.config)}) · computed by #raw({_q(r.function)})]",
+        "defined": f"[row #raw({_q(r.id)}) · #raw({_q(r.config)}) · computed by #raw({_q(r.function)})]",
     }
     for k in ("claim", "printed"):
         if fields[k] == "none":
@@ -227,10 +228,11 @@ def _row(r: RowEntry, s: SectionEntry) -> str:
 
 def _measure(m: MeasurementEntry) -> str:
     fields = {
-        "id": _s(m.id), "verdict": _q(m.verdict), "verdict-label": _q(VERDICT_LABEL[m.verdict]),
+        "id": _s(m.source or "measured"), "verdict": _q(m.verdict), "verdict-label": _q(VERDICT_LABEL[m.verdict]),
         "quantity": _rich(m.quantity), "measured": _s(m.measured), "source": _rich(m.source),
         "uncertainty": _rich(m.uncertainty or "—"), "predicted": _s(m.predicted), "interval": _s(m.interval),
-        "note": _rich(m.note), "defined": f"[#raw({_q(m.config)}) · computed by #raw({_q(m.function)})]",
+        "note": _rich(m.note),
+        "defined": f"[row #raw({_q(m.id)}) · #raw({_q(m.config)}) · computed by #raw({_q(m.function)})]",
     }
     if fields["quantity"] == "none":
         fields["quantity"] = _s("—")
