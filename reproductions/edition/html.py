@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import html
 import re
-from functools import cache
-from importlib import resources
 
 from ..config import FINDINGS, MEASUREMENT_VERDICTS, REASONS
 from ..report import VERDICTS
@@ -24,14 +22,12 @@ from .model import (
     SectionEntry,
     facsimile,
 )
+from .words import CONSEQUENCE, MEASURED_INTRO, SYMBOLS, VERDICT_WORDS, template
 
 __all__ = ["index_html", "rich_html"]
 
 
-@cache
-def _template(name: str) -> str:
-    """A file of ``templates/``, as text."""
-    return resources.files(__package__).joinpath("templates", name).read_text(encoding="utf-8")
+
 
 
 # -- HTML -------------------------------------------------------------------------------------------------------
@@ -98,8 +94,8 @@ def _text(text: str) -> str:
     return rich_html(readable(text))
 
 
-_CSS = _template("edition.css")
-_JS = _template("edition.js")
+_CSS = template("edition.css")
+_JS = template("edition.js")
 
 
 def _roman(section: str) -> tuple[int, str]:
@@ -209,11 +205,7 @@ def _counts_html(counts: dict[str, int], verdicts: tuple[str, ...] = VERDICTS) -
                      if counts.get(v))
 
 
-_MEASURED_INTRO = ("Published measurements of billiard balls, each against what the paper's mechanics predict "
-                   "(§I's law of impact, §V–§VI's friction during the impact, §II's sliding on the cloth), with "
-                   "the measurement's uncertainty and the prediction's 95 % interval. These rows judge the 1883 "
-                   "theory, not a printed claim: their verdicts, consistent or inconsistent at 95 % (fitted where "
-                   "the measurement fixed a parameter), are counted apart from the printed claims.")
+
 
 
 def _links(s: SectionEntry) -> dict[str, tuple[str, str]]:
@@ -248,7 +240,7 @@ def _measured_part(ed: Edition) -> list[str]:
         return []
     n = sum(ed.measurement_counts.values())
     out = [f'<section id="measured" class="measured-part"><h2>The 1883 theory against today\'s measurements</h2>'
-           f"<p>{_h(_MEASURED_INTRO)}</p><p class=\"counts\">{n} measurements: "
+           f"<p>{_h(MEASURED_INTRO)}</p><p class=\"counts\">{n} measurements: "
            f"{_counts_html(ed.measurement_counts, MEASUREMENT_VERDICTS)}.</p></section>\n"]
     for s in ed.measured_sections:
         _ROW_LINKS.clear()
@@ -263,30 +255,7 @@ def _measured_part(ed: Edition) -> list[str]:
     return out
 
 
-# the words and symbols a reader meets in the rows (the paper's notation, §I)
-SYMBOLS = (
-    ("vis viva", "m v², the “living force” of the period: twice the kinetic energy"),
-    ("ε, ε′", "Résal's energy-loss coefficients of the two bodies (§I): the vis viva lost in an impact is "
-              "governed by them; ε = 0 loses nothing in the restitution, ε = 1 is a plastic impact"),
-    ("e", "Newton's coefficient of restitution; for a ball on a fixed body e = (1 − ε)/(1 + ε) (eq. (9))"),
-    ("ν", "the normal-velocity yield: the normal velocity after an impact over the one before (§III–IV)"),
-    ("f", "the coefficient of friction between the bodies in contact (ball–cloth, ball–cushion, ball–ball)"),
-    ("k", "a ball's moment of inertia is M R²/k: k = 5/2 for a homogeneous sphere"),
-    ("discrepancy", "for a printed formula: its largest difference from the exact mechanics (a direct numerical "
-                    "integration), in the units the row's note gives; within its tolerance the formula holds"),
-)
-VERDICT_WORDS = (
-    ("reproduced", "what resal computes from the paper's premises agrees with the printed value within its "
-                   "printed digits (or the formula within its tolerance)"),
-    ("differs", "it does not; the reason says why"),
-    ("not-checkable", "nothing can be computed or compared (a measurement the paper reports, a claim without a "
-                      "number)"),
-    ("consistent", "a published measurement and the paper's prediction agree at 95 % (the measurement's "
-                   "uncertainty and the prediction's interval both counted)"),
-    ("inconsistent", "they do not: the paper's mechanics do not describe the measurement"),
-    ("fitted", "the measurement fixed a parameter of the prediction, so it tests nothing"))
-CONSEQUENCE = ("Each finding is ranked by its consequence, from 5 (it changes what the paper teaches) through 3 "
-               "(a result a reader would use is wrong as printed) to 1 (a detail).")
+
 
 
 def _key_html() -> str:

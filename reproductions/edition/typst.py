@@ -14,15 +14,12 @@ from __future__ import annotations
 
 import re
 import struct
-from functools import cache
-from importlib import resources
 from pathlib import Path
 from typing import BinaryIO
 
 from ..config import FINDINGS, MEASUREMENT_VERDICTS, REASONS
 from ..report import VERDICTS
 from .formula import plain_number
-from .html import _MEASURED_INTRO, SYMBOLS
 from .model import (
     CATEGORY,
     FACSIMILE_ITEM,
@@ -37,29 +34,14 @@ from .model import (
     facsimile,
 )
 from .typst_math import latex_to_typst
+from .words import CONSEQUENCE, MEASURED_INTRO, SYMBOLS, VERDICT_WORDS, template
 
-__all__ = ["CONSEQUENCE", "VERDICT_WORDS", "figure_label", "row_label", "typst_source", "write_pdf"]
-
-# the words of the glossary (the HTML page's)
-VERDICT_WORDS = (
-    ("reproduced", "what resal computes from the paper's premises agrees with the printed value within its "
-                   "printed digits (or the formula within its tolerance)"),
-    ("differs", "it does not; the reason says why"),
-    ("not-checkable", "nothing can be computed or compared (a measurement the paper reports, a claim without a "
-                      "number)"),
-    ("consistent", "a published measurement and the paper's prediction agree at 95 % (the measurement's "
-                   "uncertainty and the prediction's interval both counted)"),
-    ("inconsistent", "they do not: the paper's mechanics do not describe the measurement"),
-    ("fitted", "the measurement fixed a parameter of the prediction, so it tests nothing"))
-CONSEQUENCE = ("how much of the paper a finding touches, from 5 (it changes what the paper teaches) through 3 (a "
-               "result a reader would use is wrong as printed) to 1 (a detail): the findings are ranked by it, "
-               "highest first")
+__all__ = ["figure_label", "row_label", "typst_source", "write_pdf"]
 
 
-@cache
-def _template(name: str) -> str:
-    """A file of ``templates/``, as text."""
-    return resources.files(__package__).joinpath("templates", name).read_text(encoding="utf-8")
+
+
+
 
 
 # -- text as Typst ---------------------------------------------------------------------------------------------------
@@ -433,7 +415,7 @@ def _measured_part(ed: Edition, root: Path) -> list[str]:
         return []
     n = sum(ed.measurement_counts.values())
     out = ["#place.flush()\n#pagebreak(weak: true)\n", _heading("The 1883 theory against today's measurements"),
-           _para(_MEASURED_INTRO),
+           _para(MEASURED_INTRO),
            f"#par[#{_q(f'{n} measurements: ')}{_counts(ed.measurement_counts, MEASUREMENT_VERDICTS)}#\".\"]\n"]
     for k, s in enumerate(ed.measured_sections):
         out += _section(s, root, measured=True, first_of_part=k == 0)
@@ -452,7 +434,7 @@ def typst_source(ed: Edition, root: Path) -> str:
     results folder: compile with it as Typst's root). Looks only at the figures' files (which exist, their size)."""
     refs = _Refs(ed)
     keywords = ", ".join(_q(k) for k in ("Résal", "billiards", "1883", "reproduction", "Coriolis"))
-    out = [_template("report.typ"), "\n// -- the edition ----------------------------------------------------------\n",
+    out = [template("report.typ"), "\n// -- the edition ----------------------------------------------------------\n",
            f"#set document(title: {_q(ed.title)}, author: (\"resal\",), keywords: ({keywords}), date: none)\n"]
     out += _front(ed)
     out += _findings_part(ed, refs)
