@@ -17,7 +17,7 @@ from functools import lru_cache
 
 from .model import Rich, Span
 
-__all__ = ["latex", "mathml", "plain_number", "segments"]
+__all__ = ["mathml", "plain_number", "segments"]
 
 GREEK = {"α": "alpha", "β": "beta", "γ": "gamma", "δ": "delta", "ε": "varepsilon", "ζ": "zeta", "η": "eta",
          "θ": "theta", "ι": "iota", "κ": "kappa", "λ": "lambda", "μ": "mu", "ν": "nu", "ξ": "xi", "π": "pi",
@@ -331,10 +331,6 @@ def _word_latex(word: str, after_number: bool = False, whole: bool = False) -> s
 _OPERATOR_WORD = re.compile(r"^-$|[=+−×·±∓≤≥<>≈≠→/∫√^_²³]|(?<![A-Za-z])d[A-Za-zα-ω]/d[a-z]")
 
 
-def _is_operator(word: str) -> bool:
-    return word in _OPS or word in ("-", "∓∫", "±∫")
-
-
 @lru_cache(maxsize=8192)
 def segments(text: str | None) -> Rich:
     """A text as prose and formula spans (style "math", the LaTeX). Never loses a character of the text but the
@@ -443,11 +439,6 @@ def _merge(spans: list[Span]) -> Rich:
         else:
             out.append(sp)
     return tuple(out)
-
-
-def latex(rich: Rich) -> str:
-    """The formulas of a text, each as its LaTeX, one per line (for a developer's eye and the tests)."""
-    return "\n".join(s.text for s in rich if s.style == "math")
 
 
 @lru_cache(maxsize=8192)
