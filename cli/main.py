@@ -41,7 +41,7 @@ def main() -> None:
     try:
         from reproductions import processes
 
-        with processes.interruptible():
+        with processes.interruptible(hold_after=True):  # the work done, a late signal cannot undo it
             try:
                 app(prog_name="resal")  # `python -m cli.main --help` shows the command as a user types it
             finally:

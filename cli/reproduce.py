@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import shutil
 from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any
@@ -421,7 +420,8 @@ def reproduce(
                     if exps:
                         from reproductions import api
 
-                        scratch = report.make_staging(out, "figures")
+                        with report.signals_deferred():  # made and known together: `finally` removes it
+                            scratch = report.make_staging(out, "figures")
                         reps = api.run_and_draw(exps, jobs, scratch, progress)
                     def waiting(pids: list[int]) -> None:
                         who = f"pid {', '.join(map(str, pids))}" if pids else "another resal run"
@@ -447,7 +447,7 @@ def reproduce(
                             progress.edition_done()
                 finally:
                     if scratch is not None:
-                        shutil.rmtree(scratch, ignore_errors=True)
+                        report.remove_staging(scratch)
     except InputError as err:
         _fail(err)
     except OSError as err:  # the environment (a full disk, a file-size limit, a folder gone): exit status 1

@@ -434,18 +434,14 @@ def write(report: dict, out: Path) -> list[Path]:
     import matplotlib
 
     matplotlib.use("Agg")
-    import shutil
 
     import matplotlib.pyplot as plt
 
-    from .report import make_staging, signals_deferred, write_folder
+    from .report import signals_deferred, staging_folder, write_folder
 
     out.parent.mkdir(parents=True, exist_ok=True)
-    figures = make_staging(out.parent, f"{out.name}.figures")
-    try:
+    with staging_folder(out.parent, f"{out.name}.figures") as figures:
         return _write(report, out, figures, plt, write_folder, signals_deferred)
-    finally:
-        shutil.rmtree(figures, ignore_errors=True)
 
 
 def _write(report: dict, out: Path, figures: Path, plt: Any, write_folder: Callable[..., Path],

@@ -14,19 +14,21 @@ from typing import Any, TypeVar
 
 from .errors import Interrupted
 
-__all__ = ["STOP_SIGNALS", "checkpoint", "interruptible", "parallel_map", "process_pool"]
+__all__ = ["STOP_SIGNALS", "checkpoint", "deferred", "interruptible", "parallel_map", "process_pool"]
 
 T = TypeVar("T")
 R = TypeVar("R")
 
 
 @contextmanager
-def interruptible() -> Iterator[None]:
+def interruptible(hold_after: bool = False) -> Iterator[None]:
     """Within the block, SIGTERM and SIGHUP (as SIGINT already does) raise an exception in the main thread:
     ``Interrupted(signum)`` for any of them (``STOP_SIGNALS``), raised once (a repeat during the cleanup is
     ignored), so that the ``finally`` blocks stop the worker processes and remove the staging folders. Forked
     workers that inherit the handler before ``_worker_init`` runs die of SIGTERM or SIGHUP and ignore SIGINT.
-    Main thread only."""
+    Main thread only. ``hold_after`` (the process's outermost block, its work done when it ends): the stop
+    signals are ignored after the block, so that one arriving while the interpreter shuts down cannot end a
+    finished run by Python's own SIGINT death (status -2 and a traceback, seen under load)."""
     import threading
 
     if threading.current_thread() is not threading.main_thread():  # signal handlers belong to the main thread
@@ -44,8 +46,11 @@ def interruptible() -> Iterator[None]:
         if _RECEIVED["signum"] is None:
             _RECEIVED["signum"] = signum
             # inside an at-fork hook, a weakref callback, a finaliser or the garbage collector the exception would
-            # be printed ("Exception ignored in …", a traceback) and dropped: there the next ``checkpoint`` raises
-            if not _FORKING[0] and not _in_callback(frame):
+            # be printed ("Exception ignored in …", a traceback) and dropped: there the next ``checkpoint`` raises;
+            # inside ``deferred()`` its end raises
+            if _DEFERRED[0]:
+                _PENDING[0] = signum
+            elif not _FORKING[0] and not _in_callback(frame):
                 raise Interrupted(signum)
 
     # a signal ignored from the start (SIGINT of a background job, `nohup`-like wrappers) stays ignored
@@ -60,8 +65,39 @@ def interruptible() -> Iterator[None]:
         checkpoint()  # a signal whose exception was swallowed still ends the block as an interruption
     finally:
         for s, h in previous.items():
-            signal.signal(s, h)
-        _RECEIVED["signum"] = None
+            signal.signal(s, signal.SIG_IGN if hold_after else h)
+        _RECEIVED["signum"] = _PENDING[0] = None
+
+
+@contextmanager
+def deferred() -> Iterator[None]:
+    """SIGINT, SIGTERM and SIGHUP wait until the block ends, then interrupt: a swap of two renames is never left
+    half done, a folder is never half removed, and an interruption is never raised inside matplotlib's PDF or PNG
+    writer (whose own cleanup then failed with another exception and a traceback, exit 1 instead of 143: seen once
+    under load in CI). Two means, as neither is enough alone: ``interruptible``'s handler only records a signal that
+    lands inside the block (a signal goes to any thread that does not block it, and numpy's BLAS threads do not:
+    masking the main thread alone did not hold it back), and the main thread blocks them (where no handler of ours
+    is installed, Python's own SIGINT handler would raise ``KeyboardInterrupt`` inside)."""
+    sigs = set(STOP_SIGNALS)
+    masked = hasattr(signal, "pthread_sigmask") and threading_is_main()
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs) if masked else None
+    _DEFERRED[0] += 1
+    try:
+        yield
+    finally:
+        _DEFERRED[0] -= 1
+        if masked:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)  # a signal held by the mask is handled here
+        if not _DEFERRED[0] and _PENDING[0] is not None:
+            signum, _PENDING[0] = _PENDING[0], None
+            raise Interrupted(signum)
+
+
+def threading_is_main() -> bool:
+    """Whether this is the main thread (the only one that may change signal handling), without importing
+    ``threading`` where it is not yet loaded."""
+    threading = sys.modules.get("threading")
+    return threading is None or threading.current_thread() is threading.main_thread()
 
 
 def _in_callback(frame: Any) -> bool:
@@ -79,6 +115,8 @@ def _in_callback(frame: Any) -> bool:
 # the signals that end a command the same way: one line, earlier results intact, staging removed, 128 + n
 STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n))
 _RECEIVED: dict[str, int | None] = {"signum": None}  # the signal ``interruptible`` received, if any
+_DEFERRED = [0]  # how many ``deferred()`` blocks this thread is inside
+_PENDING: list[int | None] = [None]  # a signal received inside ``deferred()``, raised at its end
 _FORKING = [False]  # True while this process forks (between the at-fork hooks, ours outermost)
 
 

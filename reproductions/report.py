@@ -21,16 +21,15 @@ import platform
 import re
 import secrets
 import shutil
-import signal
 import socket
 import subprocess
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import AbstractContextManager, contextmanager
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any, BinaryIO
 
-from . import __version__, digest
+from . import __version__, digest, processes
 from .config import MEASUREMENT_VERDICTS, REASON_GROUP_LABELS, REASON_GROUPS, REASONS
 from .errors import ComputationError, InputError
 from .results import FigureSpec, Reproduction
@@ -52,8 +51,10 @@ __all__ = [
     "parse_source",
     "provenance",
     "read_manifest",
+    "remove_staging",
     "row_cells",
     "signals_deferred",
+    "staging_folder",
     "staging_name",
     "summary",
     "summary_problem",
@@ -667,7 +668,9 @@ def staging_name(what: str, pid: int | None = None) -> str:
 
 
 def make_staging(parent: Path, what: str) -> Path:
-    """A new staging folder in ``parent``, made by a plain ``mkdir``: it gets the umask's mode (not 0700)."""
+    """A new staging folder in ``parent``, made by a plain ``mkdir``: it gets the umask's mode (not 0700). A caller
+    that must remove it whatever happens assigns the result inside ``signals_deferred()``: an interruption between
+    the ``mkdir`` and the assignment would leave a folder nobody knows of."""
     while True:
         p = parent / staging_name(what)
         try:
@@ -675,6 +678,27 @@ def make_staging(parent: Path, what: str) -> Path:
             return p
         except FileExistsError:
             continue
+
+
+def remove_staging(p: Path) -> None:
+    """Remove a staging folder whole, the stop signals held until it is gone: an interruption raised inside
+    ``shutil.rmtree`` would stop it half way and leave the folder behind (seen once under load in CI: a SIGINT
+    at the end of a run left ``.resal-….figures``)."""
+    with signals_deferred():
+        shutil.rmtree(p, ignore_errors=True)
+
+
+@contextmanager
+def staging_folder(parent: Path, what: str) -> Iterator[Path]:
+    """A staging folder in ``parent`` for the block, removed whole after it, whatever ends it."""
+    p = None
+    try:
+        with signals_deferred():  # made and known together
+            p = make_staging(parent, what)
+        yield p
+    finally:
+        if p is not None:
+            remove_staging(p)
 
 
 def _owner_alive(pid: int) -> bool:
@@ -714,20 +738,9 @@ def clean_stale(out: Path) -> list[Path]:
     return done
 
 
-@contextmanager
-def signals_deferred() -> Iterator[None]:
-    """SIGINT, SIGTERM and SIGHUP wait until the block ends: a swap of two renames is never left half done, and
-    an interruption is never raised inside matplotlib's PDF or PNG writer (whose own cleanup then failed with
-    another exception and a traceback, exit 1 instead of 143: seen once under load in CI)."""
-    sigs = {getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n)}
-    if not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+def signals_deferred() -> AbstractContextManager[None]:
+    """SIGINT, SIGTERM and SIGHUP wait until the block ends (``processes.deferred``)."""
+    return processes.deferred()
 
 
 def _atomic_write(path: Path, write: Callable[[BinaryIO], None]) -> None:
@@ -912,15 +925,17 @@ def write_folder(final: Path, files: dict[str, str], figures: Sequence[FigureSpe
     ``<name>.yours`` (in a folder without a manifest, written before resal kept one, such a file is taken as
     resal's own earlier output)."""
     out, name = final.parent, final.name
+    stage = old = None
     try:
-        stage = make_staging(out, f"{name}.staging")
-    except OSError as exc:
-        if exc.errno == errno.ENAMETOOLONG:
-            raise InputError(f"experiment id '{name}'", f"too long for a folder name of this file system "
-                                                        f"({len(name.encode())} bytes): choose a shorter id") from None
-        raise InputError(f"--out {out}", f"cannot write the output folder ({exc.strerror})") from None
-    old = None
-    try:
+        try:
+            with signals_deferred():  # made and known together: the ``except`` below removes it
+                stage = make_staging(out, f"{name}.staging")
+        except OSError as exc:
+            if exc.errno == errno.ENAMETOOLONG:
+                why = (f"too long for a folder name of this file system ({len(name.encode())} bytes): "
+                       "choose a shorter id")
+                raise InputError(f"experiment id '{name}'", why) from None
+            raise InputError(f"--out {out}", f"cannot write the output folder ({exc.strerror})") from None
         for fname, text in files.items():
             (stage / fname).write_text(text, encoding="utf-8")
         for spec in figures:
@@ -967,11 +982,12 @@ def write_folder(final: Path, files: dict[str, str], figures: Sequence[FigureSpe
                     if not busy or attempt == _SWAP_ATTEMPTS - 1:
                         raise
         if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+            remove_staging(old)
     except BaseException:
-        shutil.rmtree(stage, ignore_errors=True)
+        if stage is not None:
+            remove_staging(stage)
         if old is not None and final.exists():
-            shutil.rmtree(old, ignore_errors=True)
+            remove_staging(old)
         raise
     return final
 

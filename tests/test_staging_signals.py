@@ -1,0 +1,143 @@
+"""A stop signal landing at the worst moment of a staging folder's life: between its ``mkdir`` and the moment its
+maker knows it, inside the ``rmtree`` that removes it, and after the work is done while the interpreter shuts down.
+Each case is forced, not waited for (the random-moment tests of test_hostile_environment.py found them only once
+in a while, under load). Each runs in a child process: the signal goes to that process alone."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _child(code: str, tmp: Path) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    return subprocess.run([sys.executable, "-c", textwrap.dedent(code), str(tmp)], env=env, capture_output=True,
+                          text=True, timeout=60)
+
+
+_PRELUDE = """
+    import os, pathlib, signal, sys
+    from reproductions import processes, report
+    from reproductions.errors import Interrupted
+    tmp = pathlib.Path(sys.argv[1])
+"""
+
+
+def test_a_signal_inside_the_removal_of_a_staging_folder_still_removes_it_whole(tmp_path: Path) -> None:
+    """The signal arrives at the first file ``rmtree`` unlinks: the removal finishes, then the run is interrupted
+    (without the signals held, the exception stops ``rmtree`` there and 29 files stay behind)."""
+    r = _child(_PRELUDE + """
+    stage = report.make_staging(tmp, "figures")
+    for i in range(30):
+        (stage / f"f{i}.png").write_bytes(b"x")
+    real, fired = os.unlink, []
+    def unlink(*a, **k):
+        if not fired:
+            fired.append(1)
+            os.kill(os.getpid(), signal.SIGINT)
+        return real(*a, **k)
+    os.unlink = unlink
+    try:
+        with processes.interruptible():
+            report.remove_staging(stage)
+    except Interrupted as exc:
+        print("interrupted", exc.signum, fired)
+    """, tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["interrupted", str(int(signal.SIGINT)), "[1]"], r.stdout
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_signal_between_the_mkdir_and_its_maker_knowing_the_folder_leaves_nothing(tmp_path: Path) -> None:
+    """The signal arrives as ``mkdir`` returns: ``staging_folder`` still knows the folder and removes it."""
+    r = _child(_PRELUDE + """
+    real = pathlib.Path.mkdir
+    def mkdir(self, *a, **k):
+        real(self, *a, **k)
+        os.kill(os.getpid(), signal.SIGTERM)
+    pathlib.Path.mkdir = mkdir
+    try:
+        with processes.interruptible():
+            with report.staging_folder(tmp, "figures") as p:
+                print("body ran", p)
+    except Interrupted as exc:
+        print("interrupted", exc.signum)
+    """, tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["interrupted", str(int(signal.SIGTERM))], r.stdout
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_write_folder_interrupted_as_its_staging_is_made_leaves_the_folder_as_it_was(tmp_path: Path) -> None:
+    r = _child(_PRELUDE + """
+    (tmp / "exp").mkdir()
+    (tmp / "exp" / "old.txt").write_text("earlier")
+    real = pathlib.Path.mkdir
+    def mkdir(self, *a, **k):
+        real(self, *a, **k)
+        os.kill(os.getpid(), signal.SIGHUP)
+    pathlib.Path.mkdir = mkdir
+    try:
+        with processes.interruptible():
+            report.write_folder(tmp / "exp", {"new.txt": "new"})
+    except Interrupted as exc:
+        print("interrupted", exc.signum)
+    """, tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["interrupted", str(int(signal.SIGHUP))], r.stdout
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["exp"]
+    assert sorted(p.name for p in (tmp_path / "exp").iterdir()) == ["old.txt"]
+
+
+def test_after_the_outermost_block_a_late_signal_cannot_end_a_finished_run(tmp_path: Path) -> None:
+    """``interruptible(hold_after=True)`` (``resal``'s main): a SIGINT, SIGTERM or SIGHUP sent after the work is
+    done is ignored, and the process exits with the status it chose (0), not by Python's SIGINT death (-2)."""
+    r = _child(_PRELUDE + """
+    with processes.interruptible(hold_after=True):
+        pass
+    for s in processes.STOP_SIGNALS:
+        os.kill(os.getpid(), s)
+    print("survived")
+    """, tmp_path)
+    assert (r.returncode, r.stdout.split(), r.stderr) == (0, ["survived"], "")
+
+
+def test_without_hold_after_the_handlers_are_put_back(tmp_path: Path) -> None:
+    """The inner blocks (``resal reproduce``'s own) put back the handlers they found: a control for the test above
+    (Python's SIGINT handler, then its death by SIGINT)."""
+    r = _child(_PRELUDE + """
+    with processes.interruptible():
+        pass
+    os.kill(os.getpid(), signal.SIGINT)
+    print("survived")
+    """, tmp_path)
+    assert r.returncode == -signal.SIGINT and "KeyboardInterrupt" in r.stderr, (r.returncode, r.stderr)
+
+
+def test_a_signal_inside_a_deferred_block_with_other_threads_waits_for_its_end(tmp_path: Path) -> None:
+    """numpy's BLAS threads do not block the stop signals, so the kernel may hand a signal to one of them: masking
+    the main thread alone let it through at once. A thread started before the block stands for them here."""
+    r = _child(_PRELUDE + """
+    import threading, time
+    stop = threading.Event()
+    t = threading.Thread(target=stop.wait, daemon=True)
+    t.start()
+    steps = []
+    try:
+        with processes.interruptible():
+            with processes.deferred():
+                os.kill(os.getpid(), signal.SIGTERM)
+                for _ in range(200):
+                    time.sleep(0.001)  # many chances for the handler to run
+                steps.append("block finished")
+    except Interrupted as exc:
+        print(steps, "interrupted", exc.signum)
+    """, tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["['block", "finished']", "interrupted", str(int(signal.SIGTERM))], r.stdout
