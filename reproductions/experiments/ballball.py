@@ -37,7 +37,7 @@ F_RANDOM = 0.3  # the largest friction of the random scenes (``_random``)
 TURN_MIN = 1e-6  # rad: a turn of the slip above the integration's noise (the free balls' slips turn < 1e-11)
 STUN_SHOTS = 20  # stun shots nearly head-on, cut 0,5°-10°, where the slip stops during the impact
 F_BEYOND = 0.3  # beyond Coriolis's bound f < 0,03 (n°13): up to ten times it
-COST = 1.6  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+COST = 3.0  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("mu_bb", "mu_bb(v)", "e_bb")
 
 

@@ -21,7 +21,7 @@ _CLAIMS = ("q_abstraction", "eq1_slip", "eq2_equations", "eq3_ratio", "spins_int
            "slip_direction_edges", "euler_parabola", "eq3_frame", "eq4_velocity", "eq5_corrected", "roll_condition",
            "coriolis_height", "coriolis_edges", "t_roll_edges", "y_roll_corrected", "tangent_after")
 QUANTITIES = (*_CHECKS, *_CLAIMS, "f_today", "oscillation_centre")
-COST = 0.5  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+COST = 0.7  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("mu_s", "mu_r")
 
 

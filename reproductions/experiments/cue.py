@@ -22,7 +22,7 @@ QUANTITIES = ("eq5_full_moment", "eq5_own_moment", "eq7_own_moment", "eq7_n1_as_
               "energy_resal",
               "energy_resal_beyond", "central_stroke", "friction_angle_high", "friction_angle_low", "epsp_cue",
               "criterion_as_printed", "criterion_derived")
-COST = 1.2  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+COST = 1.5  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("e_tip", "mu_tip", "m_ball/m_cue", "mu_s")
 
 

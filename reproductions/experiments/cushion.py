@@ -24,7 +24,7 @@ QUANTITIES = ("j_today", "stays_on_cloth", "q_constant", "eq1", "eq2_original", 
               "eq9", "dchi", "zeta_integral_sign", "nu_n5", "eq10_as_printed", "eq10_sign", "n0_zero",
               "not_elementary", "small_quantity", "expansion_identity", "eq11_as_printed",
               "approx_error", "approx_error_beyond", "eq11_integrable")
-COST = 1.0  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+COST = 1.5  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("mu_c", "e_c", "e_c(v)")
 
 

@@ -37,7 +37,7 @@ from .base import Comparison, FigureSpec, FitRow, Reproduction, layer, measureme
 
 QUANTITIES = ("mu_common", "cue_sliding_time", "target_sliding_time", "cue_final_speed", "target_final_speed",
               "e_vs_modern", "momentum_before", "momentum_after", "kinetic_energy_loss", "impact_momentum")
-COST = 0.4  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+COST = 1.05  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("e_bb", "mu_s", "mu_bb")
 MAX_DRAWS = 20_000
 MAX_DATA_BYTES = 1 << 16  # a table of published scalars: a few hundred bytes

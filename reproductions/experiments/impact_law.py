@@ -29,7 +29,7 @@ QUANTITIES = (
     "eq3", "eq4", "elastic_literal", "elastic", "eq5", "eps_differ_premise", "eq6", "several_bodies",
     "eps_not_specific", "balls_eps_small", "n4_sliding", "n4_slip_stops",
 )
-COST = 1.0  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+COST = 2.4  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("e_bb",)
 MAX_SCENES = 10_000
 # the integrated impacts weigh vis viva balances at rounding (rows eq4, elastic, vis_viva_decreases: tolerances

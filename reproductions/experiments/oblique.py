@@ -39,7 +39,7 @@ stats = lazy("scipy.stats", globals())
 
 QUANTITIES = ("series_agree", "alpha1_shape", "throw_shape", "throw_halves", "delta2_throw", "delta2_separation",
               "delta2_cue", "f_vs_modern", "f_vs_coriolis", "e_vs_modern")
-COST = 1.4  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+COST = 1.75  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("mu_bb", "mu_bb(v)", "e_bb")
 READINGS = {"throw": "(a) the throw: the object ball's departure from the line of centres",
             "sep_dev": "(b) 90° − the separation angle",

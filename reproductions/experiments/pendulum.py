@@ -31,7 +31,7 @@ QUANTITIES = ("eq_b_vs_integration", "eq7_vs_integration", "eq8_vs_integration",
               "momentum_balance", "epsp_given_eps", "eps_given_epsp", "swapped_struck_ratio", "translation_kept",
               "momentum_vs_integration", "law6_vs_integration", "max_rank", "speed_range",
               "mass_ratio")
-COST = 0.2  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+COST = 0.3  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("e_tip", "m_ball/m_cue")
 
 

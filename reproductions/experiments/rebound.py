@@ -30,7 +30,7 @@ from .base import (
 )
 
 QUANTITIES = ("eq9_limit", "eps", "velocity_ratio", "eps_no_rebound", "eps_series", "measured_datum", "free_fall")
-COST = 0.2  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+COST = 0.45  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("e_c", "e_c(v)", "e_t")
 MAX_TRIALS = 10_000  # a synthetic series: far more trials than any measured one, still fitted in a blink
 G = 9.80665  # only to turn drop heights into speeds; every ratio here is independent of g

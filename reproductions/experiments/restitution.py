@@ -32,7 +32,7 @@ from .headon import Published, judge, quantiles, read_published
 
 QUANTITIES = ("eps_cushion_low", "eps_cushion_all", "eps_constant", "eps_ball_ball", "contact_time",
               "separation_mean", "transverse_momentum")
-COST = 0.35  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+COST = 0.55  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("e_c", "e_c(v)", "e_bb", "mu_bb")
 REQUIRED = ("ball_mass", "ball_diameter", "cushion_restitution_below_1.8_mps", "cushion_restitution_all_speeds",
             "cushion_contact_time", "ball_ball_restitution_head_on", "separation_angle_mean",

@@ -41,7 +41,7 @@ STATIC = ("eq1_slip", "q_constant", "eq2_as_printed", "eq2_original", "slip_dire
           "eq7_tan_sliding", "eq7_components_sliding", "eq7_tan_slip_stops", "vertical_plane", "range_formula",
           "range_ratio", "eq8_sliding", "eq8_slip_stops", "eq9_limit", "eq9_premise", "eq9_beyond",
           "angles_decrease", "angles_decrease_roze", "mean_ratio", "ligneous_layer", "footnote_drop_ratio")
-COST = 1.5  # CPU seconds of a run with its figures, about: the process pool starts the longest first
+COST = 3.4  # CPU seconds of a run with its figures, about: the process pool starts the longest first
 MODERN = ("e_t",)
 MAX_SEEDS = 1000  # repetitions of the estimator comparison: 40 take about a second; 1000 pin the bias to 0.3 %
 SURFACE_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
