@@ -673,8 +673,8 @@ def _render_styled(spec: FigureSpec) -> Any:
     equal = spec.aspect == "equal" and len(axes) == 1
     if equal:  # the limits of the data, before a draw widens one of them to the axes' shape
         (x0, x1), (y0, y1) = axes[0].get_xlim(), axes[0].get_ylim()
-    _fit_width(fig, cols)
     if equal:  # rows as tall as those limits need at the axes' width (within bounds), the limits then kept
+        _fit_width(fig, cols)  # that width first (elsewhere the height does not depend on the side margins)
         rows_h = min(max(axes[0].bbox.width / fig.dpi * abs(y1 - y0) / abs(x1 - x0), 1.6), 4.6)
         axes[0].set_xlim(x0, x1, auto=None)
         axes[0].set_ylim(y0, y1, auto=None)
