@@ -316,7 +316,8 @@ class _Plan:
 
 
 def _take(model: Model, scene: Scene, mask: np.ndarray) -> dict[str, np.ndarray]:
-    return {k: (a if k in model.static else a[mask]) for k, a in scene.items()}
+    idx = np.flatnonzero(mask)  # once: indexing by it is cheaper than by the mask, array after array
+    return {k: (a if k in model.static else a.take(idx, axis=0)) for k, a in scene.items()}
 
 
 def solve(model: Model, scene: Scene, method: str = "auto") -> Any:
@@ -468,12 +469,13 @@ def _merge(parts: list[tuple[np.ndarray, Any]], n: int, batch: tuple[int, ...]) 
     """One result from the per-path results of disjoint subsets of the scenes (array fields scattered back)."""
     first = parts[0][1]
     values: dict[str, Any] = {}
+    where = [np.flatnonzero(sel) for sel, _ in parts]  # once: cheaper than the masks, array after array
     for f in dataclasses.fields(first):
         v0 = getattr(first, f.name)
         if isinstance(v0, np.ndarray) and v0.ndim >= 1:
             out = np.empty((n, *v0.shape[1:]), dtype=v0.dtype)
-            for sel, res in parts:
-                out[sel] = getattr(res, f.name)
+            for idx, (_, res) in zip(where, parts, strict=True):
+                out[idx] = getattr(res, f.name)
             values[f.name] = out
         else:
             values[f.name] = v0

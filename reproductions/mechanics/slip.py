@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["SlipDecay", "slip_decay"]
+__all__ = ["SlipDecay", "SlipWalk", "slip_decay"]
 
 
 NEWTON_MAXITER = 60  # bound on the Newton iteration; a monotone convex iteration needs ~5-8 steps
@@ -89,12 +89,18 @@ def _series(c: np.ndarray) -> _Series:
     mstar = np.floor(c0 + 1)
     rows, bstar, b = [], np.zeros(c.shape), np.ones(c.shape)
     weight = 2 ** (c0 + 1) * (c0 + 0.5)  # the tail bound 2^(c0+1) (c0 + ½) |g_K| 2^−K, from K > c0 + 1
+    stars = set(np.unique(mstar).tolist())  # the few m* of these c (the rows without one need no mask)
+    top = float(np.max(c0 + 1)) if c.size else -np.inf
     for m in range(N_SPLIT):
-        star = mstar == m
-        gm = np.where(star, 0.0, b / np.where(star, 1.0, m - c0 - 0.5))
-        bstar = np.where(star, b, bstar)
+        if m in stars:
+            star = mstar == m
+            gm = np.where(star, 0.0, b / np.where(star, 1.0, m - c0 - 0.5))
+            bstar = np.where(star, b, bstar)
+        else:
+            gm = b / (m - c0 - 0.5)
         rows.append(gm)
-        if np.all((m > c0 + 1) & (weight * np.abs(gm) * 0.5**m <= 2.0**-56)):
+        # every column's tail below the bound (×2^−m is exact: the largest term decides)
+        if m > top and (not c.size or float(np.max(weight * np.abs(gm))) * 0.5**m <= 2.0**-56):
             break
         b = b * ((m + 1 - c0) / (m + 1))
     g = np.array(rows)
@@ -106,10 +112,14 @@ def _pfaff_terms(c: np.ndarray, weight: np.ndarray, big: np.ndarray) -> np.ndarr
     """Pfaff's coefficients p_n (rows) for the c of a 1-D array, up to the bound of the comment above
     ``C_SERIES``: weight |p_K| 2^−K (y ≤ ½) or, where ``big``, weight |p_K| (K + c) (any y ≤ 1)."""
     rows, t = [np.ones(c.shape)], np.ones(c.shape)
+    some_big = bool(big.any())
     for n in range(N_PFAFF - 1):
         t = t * ((n - 0.5) / (n + c + 1))
         rows.append(t)
-        if np.all(weight * np.abs(t) * np.where(big, n + 1 + c, 0.5 ** (n + 1)) <= 2.0**-56):
+        if some_big:
+            if np.all(weight * np.abs(t) * np.where(big, n + 1 + c, 0.5 ** (n + 1)) <= 2.0**-56):
+                break
+        elif not c.size or float(np.max(weight * np.abs(t))) * 0.5 ** (n + 1) <= 2.0**-56:  # (×2^−n−1: exact)
             break
     return np.array(rows)
 
@@ -346,3 +356,97 @@ def slip_decay(phi0: np.ndarray, psi0: np.ndarray, alpha: np.ndarray, beta: np.n
     shape = arrays[0].shape
     f1, s1, _ = SlipDecay(*arrays[:4]).at(arrays[4].ravel(), np.arange(arrays[0].size))
     return f1.reshape(shape), s1.reshape(shape)
+
+
+class SlipWalk:
+    """The general decays of a ``SlipDecay`` (scenes ``idx``, all with ``gen``) followed along a moving impulse τ, one
+    Newton step of ``_solve_x`` per call of ``advance`` (the §VI end of impact moves τ = f ω at each of its own
+    steps, n°13): the step, the evaluation of H and ``_solve_x``'s convergence test, on arrays kept for the scenes
+    still walking (``keep`` drops the others) and updated in place. ``x0``, ``h0``: a start and its H (a root of
+    ``SlipDecay.at``)."""
+
+    def __init__(self, dec: SlipDecay, idx: np.ndarray, x0: np.ndarray, h0: np.ndarray) -> None:
+        self.total, self.e2, self.r2, self.scale = (a[idx] for a in (dec.total, dec.e2, dec.r2, dec.scale))
+        self.f0, self.s0 = dec.f0[idx], dec.s0[idx]
+        self.swap = dec.swap[idx] if dec.swapped else None
+        self.series = _take(dec.series, idx) if dec.series is not None else None
+        ok = np.isfinite(x0) & (x0 > 0) & (h0 > 0)  # else a cold start at x = 1, H = H(1)
+        self.y = np.where(ok, np.log(np.where(ok, np.minimum(x0, 1.0), 1.0)), 0.0)
+        self.h = np.where(ok, h0, self.total)
+        self.x, self.u = np.exp(self.y), np.exp(self.e2 * self.y)
+        self.last = np.full(self.y.shape, np.inf)
+        self._slope()
+
+    def _slope(self) -> None:
+        """ln H and the elasticity E = x H′(x)/H (``_solve_x``) at the current x."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            self.lnh = np.log(self.h)
+            self.el = self.x * self.scale * np.sqrt(1 + self.r2 * self.u) / self.h
+
+    def keep(self, i: np.ndarray) -> None:
+        """Only the walks ``i`` go on."""
+        for name in ("total", "e2", "r2", "scale", "f0", "s0", "y", "h", "x", "u", "last", "lnh", "el"):
+            setattr(self, name, getattr(self, name)[i])
+        if self.swap is not None:
+            self.swap = self.swap[i]
+        if self.series is not None:
+            self.series = _take(self.series, i)
+
+    def advance(self, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """One Newton step of ``_solve_x`` in y = ln x towards H(x) = H(1) − τ (log form: monotone, by convexity),
+        then H at the new x. Returns (|φ|, |ψ|) at τ, corrected to first order for the step's remaining residual
+        (x·e^(−ρ/E), ρ = ln H − ln(H(1) − τ)), and whether the walk has converged for this τ (``_solve_x``'s test;
+        a slip that stops, τ ≥ H(1), has)."""
+        target = self.total - tau
+        stop = ~(target > 0)
+        cold = ~(self.h > 0) & ~stop  # stopped before, or H underflowed: start again at x = 1
+        if cold.any():
+            self.y[cold], self.x[cold], self.u[cold], self.h[cold] = 0.0, 1.0, 1.0, self.total[cold]
+            self.last[cold] = np.inf
+            self._slope()
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lnt = np.log(target)
+            step = (self.lnh - lnt) / self.el
+            if stop.any():
+                step[stop] = 0.0
+            y = np.minimum(self.y - step, 0.0)
+            self.y, self.x, self.u = y, np.exp(y), np.exp(self.e2 * y)
+            self.h = _H_of(self.x, self.u, self.r2, self.scale, self.series)  # type: ignore[arg-type]
+            if stop.any():
+                self.x[stop], self.u[stop], self.h[stop] = 0.0, 0.0, 0.0
+            self._slope()
+            size = np.abs(step)
+            settled = (stop | (size <= NEWTON_RTOL) | (np.abs(self.h - target) <= NEWTON_RTOL * self.total)
+                       | ((size <= NEWTON_FLOOR) & (size >= 0.5 * self.last)))
+            self.last = size
+            dy = (lnt - self.lnh) / self.el  # the step left: −ρ/E
+            if stop.any():
+                dy[stop] = 0.0
+            psi = self.s0 * self.x * (1 + dy)
+            phi = self.f0 * self.x * np.sqrt(self.u) * (1 + (1 + 0.5 * self.e2) * dy)  # φ ∝ x^(α/β)
+        if self.swap is None:
+            return phi, psi, settled
+        return np.where(self.swap, psi, phi), np.where(self.swap, phi, psi), settled
+
+    def settle(self, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``advance`` towards one impulse τ per walk until each has converged (``_solve_x``: raises past
+        ``NEWTON_MAXITER`` steps), dropping those that have. Returns (|φ|, |ψ|) at τ and the last x and its H, a
+        warm start for a walk at nearby impulses. The walk is used up."""
+        n = self.y.size
+        phi, psi, x, h = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+        ix, tau = np.arange(n), np.asarray(tau, dtype=float)
+        for _ in range(NEWTON_MAXITER):
+            if ix.size == 0:
+                return phi, psi, x, h
+            p, q, settled = self.advance(tau)
+            k = np.flatnonzero(settled)
+            j = ix[k]
+            phi[j], psi[j], x[j], h[j] = p[k], q[k], self.x[k], self.h[k]
+            if k.size:
+                k = np.flatnonzero(~settled)
+                self.keep(k)
+                ix, tau = ix[k], tau[k]
+        if ix.size:
+            raise ArithmeticError(f"slip decay: Newton did not converge in {NEWTON_MAXITER} steps for "
+                                  f"{ix.size} scene(s)")
+        return phi, psi, x, h

@@ -70,7 +70,7 @@ from numpy.typing import ArrayLike
 
 from .budget import bounded, check
 from .paths import PathCode, Regime, codes
-from .slip import SlipDecay, slip_decay
+from .slip import SlipDecay, SlipWalk, slip_decay
 
 __all__ = ["METHODS", "SpheresImpact", "contact_slip", "two_spheres"]
 
@@ -170,7 +170,7 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         stops = (np.hypot(s1[..., 0], s1[..., 1]) <= 1e-9 * np.maximum(s0n, 1e-300)) & (s0n > 0)
     else:
         converged = np.ones(batch, dtype=bool)
-        final = None  # on the cloth: the slip decay and its last roots, to end the fixed point from a warm start
+        final = None  # on the cloth: the slip after, from the end of the fixed point
         if not on_cloth:
             w_c = np.maximum(s0n - f * cy * M * omega, 0.0)
             s_c = s0 * (w_c / np.where(s0n > 0, s0n, 1.0))[..., None]
@@ -188,9 +188,7 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         if final is None:
             a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
         else:
-            dec, xs = final
-            a1, b1, _ = dec.at(np.ravel(f * omega1), np.arange(xs.size), xs)
-            a1, b1 = a1.reshape(batch), b1.reshape(batch)
+            a1, b1 = (x.reshape(batch) for x in final)
         s1 = np.stack([np.sign(s0[..., 0]) * a1, np.sign(s0[..., 1]) * b1], axis=-1)
         label = ("exact: slip decay in closed form (₂F₁), normal impulse from law (6) by Newton's method"
                  if on_cloth else "exact: closed form, sliding or sticking (law (6) as a quadratic)")
@@ -237,13 +235,15 @@ NEWTON_MAXITER = 100
 
 def _cloth_normal_impulse(s0: np.ndarray, approach: np.ndarray, omega: np.ndarray, M: np.ndarray, cy: np.ndarray,
                           cz: np.ndarray, f: np.ndarray, coef: tuple[np.ndarray, ...]
-                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[SlipDecay, np.ndarray]]:
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
     """ω1 on the cloth (§VI): the root of G(ω) (law (L), module docstring) beyond the greatest compression ω_c,
     with the slip decay in closed form, by Newton's method (G′ from the decay's rates, dY/dω = f M c_y |s_y|/|s|)
-    safeguarded by the bracket [ω_c, ω_hi] (bisection where a step leaves it), until a step is below
-    ``NEWTON_RTOL`` of ω or the bracket is that narrow (bounded by ``NEWTON_MAXITER``). Returns ω1, per scene
-    whether it converged, the slip at the greatest compression (y, z, signed), and the decay with its last roots
-    (a warm start for the final decay)."""
+    safeguarded by the bracket [ω_c, ω_hi] (bisection where a step leaves it). One iteration moves both unknowns:
+    the slip's x (``slip.SlipWalk``: one Newton step of the decay towards τ = f ω, its residual corrected to first
+    order) and ω; it stops when the slip has converged for ω and a step is below ``NEWTON_RTOL`` of ω, or G is at
+    its own rounding, or the bracket is that narrow (bounded by ``NEWTON_MAXITER``). The iteration runs on the
+    scenes still moving, its arrays compacted as scenes finish. Returns ω1, per scene whether it converged, the
+    slip at the greatest compression (y, z, signed), and the magnitudes of the slip after (y, z)."""
     shape = approach.shape
     sy, sz = np.sign(s0[..., 0]).ravel(), np.sign(s0[..., 1]).ravel()
     a0, b0 = np.abs(s0[..., 0]).ravel(), np.abs(s0[..., 1]).ravel()
@@ -251,55 +251,90 @@ def _cloth_normal_impulse(s0: np.ndarray, approach: np.ndarray, omega: np.ndarra
     coef = tuple(np.ravel(x) for x in coef)
     N, Ay, Az, By, Bz = coef
     dec = SlipDecay(a0, b0, M * cy, M * cz)
-    everyone = np.arange(a0.size)
-    ac, bc, _ = dec.at(f * om_c, everyone)
-    xs = dec.xlast.copy()  # the last Newton root of the decay per scene: the next solve starts there
+    # the slip at the greatest compression: the general decays walked from x = 1 to τ = f ω_c, the others elementary
+    gi = np.flatnonzero(dec.gen) if dec.special else dec.everyone
+    start = SlipWalk(dec, gi, np.ones(gi.size), dec.total[gi])
+    ac, bc, xc, hc = np.empty(a0.size), np.empty(a0.size), np.full(a0.size, np.nan), np.full(a0.size, np.nan)
+    ac[gi], bc[gi], xc[gi], hc[gi] = start.settle(f[gi] * om_c[gi])
+    if dec.special:
+        sp = np.flatnonzero(~dec.gen)
+        ac[sp], bc[sp], _ = dec.at(f[sp] * om_c[sp], sp)
     Yc, Zc = a0 - ac, b0 - bc
     C = By * a0 * a0 + Bz * b0 * b0
-    lo = om_c.copy()
-    hi = (approach + np.sqrt(approach * approach + 2 * N * C)) / N * (1 + 1e-12)
-
-    def G_and_slope(om: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        a1, b1, xs[i] = dec.at(f[i] * om, i, xs[i])
-        Y, Z = a0[i] - a1, b0[i] - b1
-        g = law6_G(om, Y, Z, Yc[i], Zc[i], approach[i], tuple(x[i] for x in coef))
-        # G's rounding: a few ulps of the sum of its terms' magnitudes (and of Y, Z, which cancel |s0| − |s|)
-        noise[i] = 8 * _ULP * (N[i] * om * om + 2 * approach[i] * om + Ay[i] * (Y * Y + 2 * a0[i] * Y)
-                                + Az[i] * (Z * Z + 2 * b0[i] * Z) + 2 * (By[i] * (Y + a0[i]) * Yc[i]
-                                                                          + Bz[i] * (Z + b0[i]) * Zc[i]))
-        n = np.hypot(a1, b1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            dY = np.where(n > 0, f[i] * M[i] * cy[i] * a1 / n, 0.0)
-            dZ = np.where(n > 0, f[i] * M[i] * cz[i] * b1 / n, 0.0)
-        slope = 2 * (N[i] * om - approach[i] + (Ay[i] * Y - By[i] * Yc[i]) * dY + (Az[i] * Z - Bz[i] * Zc[i]) * dZ)
-        return g, slope
-
+    hi0 = (approach + np.sqrt(approach * approach + 2 * N * C)) / N * (1 + 1e-12)
     g_c = law6_G(om_c, Yc, Zc, Yc, Zc, approach, coef)
     done = g_c >= 0  # ε = ε′ = 1 (to rounding): the impact ends at the greatest compression
-    om = np.where(done, om_c, np.clip(2 * approach / N, lo, hi))  # start: the frictionless root
-    noise = np.zeros(om.shape)
+    omega1, a1, b1, converged = om_c.copy(), ac.copy(), bc.copy(), done.copy()
+
+    ix = np.flatnonzero(~done)  # the scenes still moving; the arrays below are theirs
+    cols = (a0, b0, Yc, Zc, approach, f, M * cy, M * cz, N, Ay, Az, By, Bz, om_c, hi0)
+    A0, B0, YC, ZC, D, F, AL, BE, n_, ay, az, by, bz, lo, hi = (c[ix] for c in cols)
+    om = np.clip(2 * D / n_, lo, hi)  # start: the frictionless root
+    gen = dec.gen[ix]
+    wi = np.flatnonzero(gen) if dec.special else slice(None)  # the general decays, walked; the others elementary
+    walk = SlipWalk(dec, ix[wi], xc[ix[wi]], hc[ix[wi]])
+    alive = np.ones(ix.size, dtype=bool)  # not yet written out (finished scenes stay until a compaction)
+    p1 = q1 = dY = dZ = om
     for _ in range(NEWTON_MAXITER):
-        live = np.nonzero(~done)[0]
-        if live.size == 0:
+        if ix.size == 0:
             break
-        x = om[live]
-        g, slope = G_and_slope(x, live)
-        lo[live] = np.where(g < 0, np.maximum(lo[live], x), lo[live])
-        hi[live] = np.where(g > 0, np.minimum(hi[live], x), hi[live])
+        tau = F * om
+        if dec.special:
+            p1, q1, settled = np.empty(ix.size), np.empty(ix.size), np.ones(ix.size, dtype=bool)
+            p1[wi], q1[wi], settled[wi] = walk.advance(tau[wi])
+            sp = np.flatnonzero(~gen)
+            p1[sp], q1[sp], _ = dec.at(tau[sp], ix[sp])
+        else:
+            p1, q1, settled = walk.advance(tau)
+        Y, Z = A0 - p1, B0 - q1
+        g = law6_G(om, Y, Z, YC, ZC, D, (n_, ay, az, by, bz))
+        # G's rounding: a few ulps of the sum of its terms' magnitudes (and of Y, Z, which cancel |s0| − |s|)
+        noise = 8 * _ULP * (n_ * om * om + 2 * D * om + ay * (Y * Y + 2 * A0 * Y) + az * (Z * Z + 2 * B0 * Z)
+                            + 2 * (by * (Y + A0) * YC + bz * (Z + B0) * ZC))
+        n = np.hypot(p1, q1)
         with np.errstate(divide="ignore", invalid="ignore"):
-            nxt = x - g / slope
-        inside = np.isfinite(nxt) & (nxt > lo[live]) & (nxt < hi[live])
-        nxt = np.where(inside, nxt, 0.5 * (lo[live] + hi[live]))
-        nxt = np.where(g == 0, x, nxt)
+            rate = F / n
+            if not (n > 0).all():  # a slip that has stopped: no rate (masks only where needed: cheaper)
+                rate[~(n > 0)] = 0.0
+            dY, dZ = AL * p1 * rate, BE * q1 * rate  # dY/dω, dZ/dω: the decay's rates
+            slope = 2 * (n_ * om - D + (ay * Y - by * YC) * dY + (az * Z - bz * ZC) * dZ)
+            nxt = om - g / slope
+        # the bracket moves where the slip has converged for ω (there G is known to its rounding)
+        np.maximum(lo, om, out=lo, where=settled & (g < 0))
+        np.minimum(hi, om, out=hi, where=settled & (g > 0))
+        out = ~(np.isfinite(nxt) & (nxt > lo) & (nxt < hi))
+        if out.any():
+            nxt[out] = 0.5 * (lo[out] + hi[out])
         # converged; or G at its own rounding (a slip 10⁵ times the approach speed loses that many digits in
         # Y = |s0| − |s|, and the steps then wander at 1e-12 of ω): the root is as known as G lets it be
-        quiet = np.abs(g) <= noise[live]
-        nxt = np.where(quiet, x, nxt)
-        om[live] = nxt
-        done[live] = ((np.abs(nxt - x) <= NEWTON_RTOL * np.abs(nxt)) | quiet
-                      | (hi[live] - lo[live] <= NEWTON_RTOL * hi[live]))
+        quiet = settled & ((np.abs(g) <= noise) | (g == 0))
+        if quiet.any():
+            nxt[quiet] = om[quiet]
+        fin = alive & settled & ((np.abs(nxt - om) <= NEWTON_RTOL * np.abs(nxt)) | quiet
+                                 | (hi - lo <= NEWTON_RTOL * hi))
+        if fin.any():
+            k = np.flatnonzero(fin)
+            j, step = ix[k], nxt[k] - om[k]
+            omega1[j], a1[j], b1[j], converged[j] = nxt[k], p1[k] - dY[k] * step, q1[k] - dZ[k] * step, True
+            alive[k] = False
+        om = nxt
+        if alive.sum() < 0.9 * ix.size:  # compaction
+            k = np.flatnonzero(alive)
+            if dec.special:
+                rank = np.cumsum(gen) - 1
+                walk.keep(rank[k[gen[k]]])
+                gen = gen[k]
+                wi = np.flatnonzero(gen)
+            else:
+                walk.keep(k)
+            ix, om, alive = ix[k], om[k], alive[k]
+            A0, B0, YC, ZC, D, F, AL, BE, n_, ay, az, by, bz, lo, hi = (
+                c[k] for c in (A0, B0, YC, ZC, D, F, AL, BE, n_, ay, az, by, bz, lo, hi))
+            p1, q1 = p1[k], q1[k]
+    if ix.size:  # over NEWTON_MAXITER: the last iterate, not converged
+        omega1[ix], a1[ix], b1[ix] = om, p1, q1
     s_c = np.stack([sy * ac, sz * bc], axis=-1).reshape(*shape, 2)
-    return om.reshape(shape), done.reshape(shape), s_c, (dec, xs)
+    return omega1.reshape(shape), converged.reshape(shape), s_c, (a1, b1)
 
 
 def _slip_ode(y0: np.ndarray, a_: float, b_: float, tau_max: float, rtol: float, solver: str) -> Any:
