@@ -53,3 +53,26 @@ def test_a_stand_in_copies_and_answers_introspection_without_importing():
     assert "resal_no_such_module" in repr(twin)
     with pytest.raises(ModuleNotFoundError):  # a name of the module's: the import is attempted, and fails
         _ = stand_in.anything
+
+
+def test_reusing_unchanged_results_imports_no_numpy(tmp_path):
+    """`make all` with nothing changed reads summaries and digests only: numpy (0.16 s of a 0.4 s command) is not
+    imported. The run that fills the folder first does import it: the probe would see a regression."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    code = ("import sys, runpy\n"
+            "sys.argv = ['resal', 'reproduce', 'marble-drop', '--out', sys.argv[1]]\n"
+            "try:\n"
+            "    runpy.run_module('cli.main', run_name='__main__')\n"
+            "except SystemExit as e:\n"
+            "    assert not e.code, e.code\n"
+            "print('NUMPY', 'numpy' in sys.modules, file=sys.stderr)\n")
+    env = {"PYTHONPATH": str(root), "PATH": "/usr/bin:/bin", "COLUMNS": "80"}
+    seen = []
+    for _ in range(2):  # first computes, then reuses
+        r = subprocess.run([sys.executable, "-c", code, str(tmp_path / "out")], capture_output=True, text=True,
+                           timeout=300, cwd=root, env=env)
+        assert r.returncode == 0, r.stderr
+        seen.append(r.stderr.strip().splitlines()[-1])
+    assert seen == ["NUMPY True", "NUMPY False"], seen

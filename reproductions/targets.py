@@ -1,0 +1,136 @@
+"""The speed targets of issue 34, read from a benchmark report (``bench.run``): each figure as measured, its target,
+and whether it is met, beside the machine's calibration loop (so that a figure from another machine can be scaled
+before it is compared). Standard library only; pooltool's column appears where pooltool is installed."""
+
+from __future__ import annotations
+
+import importlib.util
+import time
+from dataclasses import asdict, dataclass
+from typing import Any
+
+__all__ = ["CALIBRATION_LOOP", "Target", "calibration", "pooltool_version", "rows", "to_markdown"]
+
+CALIBRATION_LOOP = 1_000_000  # iterations of the pure-Python loop timed by ``calibration``
+
+
+@dataclass(frozen=True)
+class Target:
+    """One figure of issue 34's table: ``now`` as measured (None: not in this report, e.g. `make all` under
+    --quick), ``target`` its bound, ``met`` whether ``now`` is within it (None when not measured)."""
+
+    what: str
+    unit: str
+    now: float | None
+    target: float
+    larger_is_better: bool
+    source: str
+    met: bool | None
+
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def calibration(repeat: int = 5) -> dict[str, float]:
+    """The machine's speed on two fixed loops, the minimum over ``repeat`` runs: a pure-Python loop of float
+    multiply-adds (ns per iteration: the cost of interpreted code, what one scene's Python pays) and numpy's
+    ``a * b + c`` over 10⁶ doubles (ns per element: the floor of a batch)."""
+    import numpy as np
+
+    def py() -> float:
+        x, t0 = 0.0, time.perf_counter()
+        for i in range(CALIBRATION_LOOP):
+            x = x * 0.999 + i
+        return (time.perf_counter() - t0) / CALIBRATION_LOOP
+
+    a, b, c = (np.random.default_rng(k).random(1_000_000) for k in range(3))
+    out = np.empty_like(a)
+
+    def vec() -> float:
+        t0 = time.perf_counter()
+        np.multiply(a, b, out=out)
+        np.add(out, c, out=out)
+        return (time.perf_counter() - t0) / a.size
+
+    return {"python_ns_per_iteration": min(py() for _ in range(repeat)) * 1e9,
+            "numpy_ns_per_element": min(vec() for _ in range(repeat)) * 1e9}
+
+
+def pooltool_version() -> str | None:
+    """pooltool's version where it is installed (an optional comparison, never a dependency), else None."""
+    if importlib.util.find_spec("pooltool") is None:
+        return None
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("pooltool-billiards")
+    except PackageNotFoundError:
+        return "installed"
+
+
+# model id → what the issue calls it; one scene through `auto`, µs (issue 34, item 1)
+_ONE_SCENE = (("direct-impact", "one scene: direct impact", 30.0), ("plane-impact", "one scene: plane", 30.0),
+              ("cloth-slide", "one scene: cloth-slide", 30.0), ("cue-stroke", "one scene: cue-stroke", 30.0),
+              ("cushion-impact", "one scene: cushion-impact", 30.0),
+              ("spheres-free", "one scene: two free balls", 60.0),
+              ("spheres-cloth", "one scene: two balls on the cloth", 60.0))
+BATCH_TARGET = 1e6  # §VI on the cloth, scenes/s through auto (item 2)
+BATCH_ERROR = 1e-10  # … at this error against the referee
+MAKE_ALL_COLD, MAKE_ALL_CACHED = 5.0, 0.5  # seconds (item 3)
+
+
+def _met(now: float | None, target: float, larger: bool) -> bool | None:
+    if now is None:
+        return None
+    return now >= target if larger else now <= target
+
+
+def rows(report: dict[str, Any]) -> list[Target]:
+    """Issue 34's table from a benchmark report: what the report measured, each against its target."""
+    out = []
+    n1 = report.get("n1", {})
+    for model, what, target in _ONE_SCENE:
+        t = n1.get(model, {}).get("total")  # µs, minimum over repeats, through auto
+        out.append(Target(what, "µs", t, target, False, f"n1[{model}].total", _met(t, target, False)))
+    cloth = next((m for m in report.get("models", []) if m["model"] == "spheres-cloth"), None)
+    auto = next((r for r in cloth["paths"] if r["path"] == "auto"), None) if cloth else None
+    if auto is not None:
+        n = auto["scenes_timed"]
+        rate, err = auto["scenes_per_second"], auto["where_exact"]["max_error"]
+        out.append(Target(f"§VI on the cloth, batch of {n:,}, auto", "scenes/s", rate, BATCH_TARGET, True,
+                          "models[spheres-cloth].auto.scenes_per_second", _met(rate, BATCH_TARGET, True)))
+        out.append(Target(f"§VI on the cloth, auto's error against the referee ({auto['where_exact']['scenes']} "
+                          "scenes)", "relative", err, BATCH_ERROR, False,
+                          "models[spheres-cloth].auto.where_exact.max_error", _met(err, BATCH_ERROR, False)))
+    ma = report.get("make_all")
+    for key, what, target in (("cold", "make all, cold (median)", MAKE_ALL_COLD),
+                              ("cached", "make all, nothing changed (median)", MAKE_ALL_CACHED)):
+        t = ma[key]["median_wall"] if ma else None
+        out.append(Target(what, "s", t, target, False, f"make_all.{key}.median_wall", _met(t, target, False)))
+    return out
+
+
+def _fmt(x: float, unit: str) -> str:
+    return f"{x:.1e}" if unit == "relative" else f"{x:.3g}"
+
+
+def to_markdown(targets: list[dict[str, Any]], cal: dict[str, float] | None, pooltool: str | None) -> list[str]:
+    """bench.md's section of the targets, the calibration and pooltool's status."""
+    lines = ["## Issue 34's targets, as measured here", "",
+             "| what | now | target | met |", "|---|---|---|---|"]
+    for t in targets:
+        bound = ("≥ " if t["larger_is_better"] else "≤ ") + _fmt(t["target"], t["unit"])
+        met = {True: "yes", False: "**no**", None: "—"}[t["met"]]
+        now = "not measured" if t["now"] is None else f"{_fmt(t['now'], t['unit'])} {t['unit']}"
+        lines.append(f"| {t['what']} | {now} | {bound} {t['unit']} | {met} |")
+    lines.append("")
+    if cal:
+        lines.append(f"Calibration of this machine: a pure-Python loop of float multiply-adds takes "
+                     f"{cal['python_ns_per_iteration']:.1f} ns per iteration; numpy's a·b + c "
+                     f"{cal['numpy_ns_per_element']:.2f} ns per element (scale a figure from another machine by "
+                     "the ratio of these before comparing it).")
+    lines.append(f"pooltool {pooltool} is installed, but the side-by-side pooltool column is not built yet."
+                 if pooltool else "pooltool is not installed (optional, never a dependency); the side-by-side "
+                 "pooltool column is not built yet.")
+    lines.append("")
+    return lines

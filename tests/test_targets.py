@@ -1,0 +1,55 @@
+"""Issue 34's targets as `resal bench` reports them: each figure read from the place of the report that measures
+it, judged against its bound in the right direction, and "not measured" (never "met") where the report has no
+such figure (`make all` is timed only by the full benchmark)."""
+
+import math
+
+from reproductions import targets
+
+
+def _report(n1: dict[str, float], rate: float, err: float, make_all: tuple[float, float] | None) -> dict:
+    rep = {"n1": {m: {"total": t} for m, t in n1.items()},
+           "models": [{"model": "spheres-cloth", "paths": [
+               {"path": "exact", "scenes_timed": 100_000, "scenes_per_second": 9e9, "where_exact": {
+                   "max_error": 1.0, "scenes": 40}},
+               {"path": "auto", "scenes_timed": 100_000, "scenes_per_second": rate, "where_exact": {
+                   "max_error": err, "scenes": 40}}]}]}
+    if make_all:
+        rep["make_all"] = {"cold": {"median_wall": make_all[0]}, "cached": {"median_wall": make_all[1]}}
+    return rep
+
+
+def test_each_target_is_judged_in_its_own_direction() -> None:
+    rep = _report({"direct-impact": 29.9, "cushion-impact": 30.1, "spheres-free": 59.0, "spheres-cloth": 61.0},
+                  rate=1.2e6, err=2e-10, make_all=(4.9, 0.6))
+    got = {t.what: t for t in targets.rows(rep)}
+    assert got["one scene: direct impact"].met is True
+    assert got["one scene: cushion-impact"].met is False
+    assert got["one scene: two free balls"].met is True
+    assert got["one scene: two balls on the cloth"].met is False
+    batch = next(t for w, t in got.items() if w.startswith("§VI on the cloth, batch of 100,000"))
+    assert (batch.now, batch.met) == (1.2e6, True)  # auto's rate, not the exact path's
+    error = next(t for w, t in got.items() if "error against the referee (40 scenes)" in w)
+    assert (error.now, error.met) == (2e-10, False)
+    assert got["make all, cold (median)"].met is True
+    assert got["make all, nothing changed (median)"].met is False
+
+
+def test_a_figure_the_report_does_not_hold_is_not_measured_never_met() -> None:
+    rep = _report({}, rate=1.0, err=0.0, make_all=None)
+    got = {t.what: t for t in targets.rows(rep)}
+    for what in ("one scene: plane", "make all, cold (median)", "make all, nothing changed (median)"):
+        assert (got[what].now, got[what].met) == (None, None)
+    lines = targets.to_markdown([t.as_dict() for t in got.values()], None, None)
+    table = [ln for ln in lines if ln.startswith("| ") and not ln.startswith("| what")]
+    assert len(table) == len(got)
+    assert sum("not measured" in ln for ln in table) == 9  # 7 single scenes absent, and make all twice
+    assert not any("yes" in ln for ln in table if "not measured" in ln)
+
+
+def test_the_calibration_measures_positive_finite_times() -> None:
+    cal = targets.calibration(repeat=1)
+    assert set(cal) == {"python_ns_per_iteration", "numpy_ns_per_element"}
+    assert all(math.isfinite(v) and v > 0 for v in cal.values())
+    # a Python iteration costs more than an element of a numpy operation on any machine this runs on
+    assert cal["python_ns_per_iteration"] > cal["numpy_ns_per_element"]
