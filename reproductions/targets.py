@@ -9,7 +9,8 @@ import time
 from dataclasses import asdict, dataclass
 from typing import Any
 
-__all__ = ["CALIBRATION_LOOP", "Target", "calibration", "pooltool_version", "rows", "to_markdown"]
+__all__ = ["CALIBRATION_LOOP", "Target", "calibration", "pooltool_version", "rows", "terminal_lines",
+           "to_markdown"]
 
 CALIBRATION_LOOP = 1_000_000  # iterations of the pure-Python loop timed by ``calibration``
 
@@ -97,11 +98,11 @@ def rows(report: dict[str, Any]) -> list[Target]:
     if auto is not None:
         n = auto["scenes_timed"]
         rate, err = auto["scenes_per_second"], auto["where_exact"]["max_error"]
-        out.append(Target(f"§VI on the cloth, batch of {n:,}, auto", "scenes/s", rate, BATCH_TARGET, True,
+        out.append(Target(f"§VI cloth: batch of {n:,}, auto", "scenes/s", rate, BATCH_TARGET, True,
                           "models[spheres-cloth].auto.scenes_per_second", _met(rate, BATCH_TARGET, True)))
-        out.append(Target(f"§VI on the cloth, auto's error against the referee ({auto['where_exact']['scenes']} "
-                          "scenes)", "relative", err, BATCH_ERROR, False,
-                          "models[spheres-cloth].auto.where_exact.max_error", _met(err, BATCH_ERROR, False)))
+        out.append(Target(f"§VI cloth: auto's error, {auto['where_exact']['scenes']} scenes", "relative", err,
+                          BATCH_ERROR, False, "models[spheres-cloth].auto.where_exact.max_error (against the referee)",
+                          _met(err, BATCH_ERROR, False)))
     ma = report.get("make_all")
     for key, what, target in (("cold", "make all, cold (median)", MAKE_ALL_COLD),
                               ("cached", "make all, nothing changed (median)", MAKE_ALL_CACHED)):
@@ -114,15 +115,32 @@ def _fmt(x: float, unit: str) -> str:
     return f"{x:.1e}" if unit == "relative" else f"{x:.3g}"
 
 
+def _cells(t: dict[str, Any]) -> tuple[str, str, str, str]:
+    unit = "" if t["unit"] == "relative" else f" {t['unit']}"
+    now = "not measured" if t["now"] is None else f"{_fmt(t['now'], t['unit'])}{unit}"
+    bound = ("≥ " if t["larger_is_better"] else "≤ ") + _fmt(t["target"], t["unit"]) + unit
+    return t["what"], now, bound, {True: "yes", False: "no", None: "—"}[t["met"]]
+
+
+def terminal_lines(targets: list[dict[str, Any]], cal: dict[str, float] | None) -> list[str]:
+    """The targets as plain lines of at most 80 characters (the terminal's table; its words as bench.md's)."""
+    rows = [("issue 34's figure", "now", "target", "met"), *(_cells(t) for t in targets)]
+    w = [max(len(r[i]) for r in rows) for i in range(4)]
+    out = ["  ".join((r[0].ljust(w[0]), r[1].rjust(w[1]), r[2].rjust(w[2]), r[3])).rstrip() for r in rows]
+    out.insert(1, "─" * len(out[0]))
+    if cal:
+        out.append(f"calibration: Python loop {cal['python_ns_per_iteration']:.1f} ns/iteration, numpy a·b + c "
+                   f"{cal['numpy_ns_per_element']:.2f} ns/element")
+    return out
+
+
 def to_markdown(targets: list[dict[str, Any]], cal: dict[str, float] | None, pooltool: str | None) -> list[str]:
     """bench.md's section of the targets, the calibration and pooltool's status."""
     lines = ["## Issue 34's targets, as measured here", "",
              "| what | now | target | met |", "|---|---|---|---|"]
     for t in targets:
-        bound = ("≥ " if t["larger_is_better"] else "≤ ") + _fmt(t["target"], t["unit"])
-        met = {True: "yes", False: "**no**", None: "—"}[t["met"]]
-        now = "not measured" if t["now"] is None else f"{_fmt(t['now'], t['unit'])} {t['unit']}"
-        lines.append(f"| {t['what']} | {now} | {bound} {t['unit']} | {met} |")
+        what, now, bound, met = _cells(t)
+        lines.append(f"| {what} | {now} | {bound} | {'**no**' if met == 'no' else met} |")
     lines.append("")
     if cal:
         lines.append(f"Calibration of this machine: a pure-Python loop of float multiply-adds takes "

@@ -27,9 +27,9 @@ def test_each_target_is_judged_in_its_own_direction() -> None:
     assert got["one scene: cushion-impact"].met is False
     assert got["one scene: two free balls"].met is True
     assert got["one scene: two balls on the cloth"].met is False
-    batch = next(t for w, t in got.items() if w.startswith("§VI on the cloth, batch of 100,000"))
+    batch = next(t for w, t in got.items() if w.startswith("§VI cloth: batch of 100,000"))
     assert (batch.now, batch.met) == (1.2e6, True)  # auto's rate, not the exact path's
-    error = next(t for w, t in got.items() if "error against the referee (40 scenes)" in w)
+    error = next(t for w, t in got.items() if "auto's error, 40 scenes" in w)
     assert (error.now, error.met) == (2e-10, False)
     assert got["make all, cold (median)"].met is True
     assert got["make all, nothing changed (median)"].met is False
@@ -53,3 +53,15 @@ def test_the_calibration_measures_positive_finite_times() -> None:
     assert all(math.isfinite(v) and v > 0 for v in cal.values())
     # a Python iteration costs more than an element of a numpy operation on any machine this runs on
     assert cal["python_ns_per_iteration"] > cal["numpy_ns_per_element"]
+
+
+def test_the_terminal_table_fits_80_columns_with_every_figure() -> None:
+    rep = _report({"direct-impact": 12.3456, "spheres-cloth": 1234.5}, rate=987654.3, err=4.2e-13,
+                  make_all=(13.25, 0.61))
+    ts = [t.as_dict() for t in targets.rows(rep)]
+    lines = targets.terminal_lines(ts, {"python_ns_per_iteration": 41.25, "numpy_ns_per_element": 0.51})
+    assert max(len(ln) for ln in lines) <= 80, max(lines, key=len)
+    body = "\n".join(lines)
+    for shown in ("12.3 µs", "1.23e+03 µs", "9.88e+05 scenes/s", "4.2e-13", "13.2 s", "0.61 s", "41.2 ns"):
+        assert shown in body, shown
+    assert len(lines) == 2 + len(ts) + 1  # header, rule, one line per figure, the calibration
