@@ -331,7 +331,8 @@ def solve(model: Model, scene: Scene, method: str = "auto") -> Any:
     (``_auto_single``), or for a single scene on its numpy floats where the path declares ``scalar``
     (``_run_one``: the same function, numpy's scalar arithmetic instead of its array loops); no masks, no merge.
     The general route (``auto_by_masks``): each path in turn, cheapest first, takes the scenes left to it (a single
-    scene, by the first path that takes it, again without masks or merge)."""
+    scene, by the first path that takes it, again without masks or merge, on its numpy floats where that path
+    declares ``scalar``)."""
     one = None
     if method == "auto":
         first = model._plan.order[0]
@@ -372,9 +373,15 @@ def _run_one(p: Path, one: dict[str, Any], batch: tuple[int, ...]) -> Any:
     its outputs as arrays of the batch shape, as the array route gives them."""
     res = p.run(one)
     values = dict(res.__dict__)
-    for name, v in values.items():
-        if isinstance(v, (np.ndarray, np.generic)):
-            values[name] = np.asarray(v).reshape(batch) if batch else v if v.__class__ is np.ndarray else np.asarray(v)
+    if batch:
+        for name, v in values.items():
+            if isinstance(v, (np.ndarray, np.generic)):
+                v = v if v.__class__ is np.ndarray else np.asarray(v)
+                values[name] = v.reshape((*batch, *v.shape))  # (a vector per scene: its own axis last)
+    else:
+        for name, v in values.items():
+            if isinstance(v, np.generic):
+                values[name] = np.asarray(v)
     values["method"] = "auto"
     values["label"] = f"auto: 1 by {res.label}"
     out = object.__new__(type(res))  # a frozen dataclass: its fields set as its own __init__ sets them
@@ -433,7 +440,8 @@ def _auto_general(model: Model, flat: Scene, n: int, batch: tuple[int, ...], fir
                   whole: bool = False) -> Any:
     """Each path, cheapest first, on the scenes left where it handles them and declares itself exact; ``first``:
     that selection for the cheapest path, already computed. ``whole``: a path that takes every scene (none taken
-    before it) runs on the batch itself, as ``_auto_single`` (a single scene past the cheapest path)."""
+    before it) runs on the batch itself, as ``_auto_single`` (a single scene past the cheapest path: on its numpy
+    floats where the path declares ``scalar``, as ``_run_one``)."""
     todo = np.ones(n, dtype=bool)
     parts: list[tuple[np.ndarray, Any]] = []
     masks: dict[Callable[[Scene], np.ndarray], np.ndarray] = {}  # a predicate that several paths share, once
@@ -453,6 +461,8 @@ def _auto_general(model: Model, flat: Scene, n: int, batch: tuple[int, ...], fir
         else:
             sel = todo & mask(p.handles) & mask(p.exact_when)
         if whole and not parts and every(sel):
+            if p.scalar and n == 1:  # a single scene, by a path that takes it as numpy floats (``_run_one``)
+                return _run_one(p, _one(model, flat), batch)
             return _auto_single(p, flat, n, batch)
         if _some(sel):
             parts.append((sel, p.run(_take(model, flat, sel))))

@@ -447,7 +447,7 @@ def _spheres_model(on_cloth: bool) -> Model:
     paths = (
         Path(PathCode.EXACT, exact_kind, _spheres("exact", on_cloth), always, 1e-12, 3 if on_cloth else 1,
              "slip decay in closed form (₂F₁), normal impulse from law (6) at a fixed point" if on_cloth else
-             "closed form, sliding or sticking (law (6) as a quadratic)"),
+             "closed form, sliding or sticking (law (6) as a quadratic)", scalar=not on_cloth),
         Path(PathCode.RESAL, Kind.AS_PRINTED, _spheres("resal", on_cloth),
              _cloth_resal_exact if on_cloth else _free_resal_exact, 1e-12, 1,
              "§VI eqs (11)-(15), first order in f" if on_cloth else "§V eqs (5), (8), sliding assumed"),
@@ -827,7 +827,7 @@ def _build() -> dict[str, Model]:
                  "the slip keeps its direction: linear decay", handles=_cushion_elementary,
                  handles_text="n0 = 0, φ0 = χ0 − p0R = 0 or j = 0 (otherwise the slip turns)", scalar=True),
             Path(PathCode.EXACT, Kind.EXACT_NUMERICAL, _cushion("exact"), always, 1e-12, 3,
-                 "Résal's integral (10) in closed form (₂F₁), its end by Newton's method"),
+                 "Résal's integral (10) in closed form (₂F₁), its end by Newton's method", scalar=True),
             Path(PathCode.RESAL, Kind.AS_PRINTED, _cushion("resal"), _cushion_resal_exact, 1e-12, 1,
                  "eq. (11) as printed, exponent (1 + k)/2"),
             Path(PathCode.RESAL_CORRECTED, Kind.CORRECTED, _cushion("resal-corrected"), _cushion_resal_exact,

@@ -19,6 +19,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .paths import pick
+
 __all__ = ["SlipDecay", "SlipWalk", "slip_decay"]
 
 
@@ -52,8 +54,11 @@ N_SPLIT = 60  # 2^(c+1) (c + ½) |b_60/e_60| 2^−60 < 1e-18 for c ≤ C_SERIES
 
 def _horner(coef: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Σ_n coef[n] x^n (rows of ``coef`` broadcast against x). One value is summed in floats, by the same
-    loop (a numpy call on one element costs a microsecond)."""
+    loop (a numpy call on one element costs a microsecond); a numpy float (one scene, ``paths.Path.scalar``)
+    gives one."""
     if isinstance(coef, np.ndarray) and coef.shape[-1] == 1 and np.size(x) == 1:
+        if x.__class__ is np.float64:
+            return np.float64(_horner(coef[:, 0].tolist(), float(x)))  # type: ignore[arg-type]
         return np.full(np.broadcast_shapes(coef.shape[1:], np.shape(x)),
                        _horner(coef[:, 0].tolist(), float(np.ravel(x)[0])))  # type: ignore[arg-type]
     acc = coef[-1] * x
@@ -130,6 +135,14 @@ def _class_series(c: float) -> _Series:
     return _series(np.array([c]))
 
 
+@lru_cache(maxsize=64)
+def _class_scalars(c: float) -> _Series:
+    """``_class_series`` for one scene as numpy floats (``paths.Path.scalar``): the per-column fields as numpy
+    floats, the rows of coefficients as they are (``_horner`` sums one column in floats either way)."""
+    s = _class_series(c)
+    return s._replace(**{k: getattr(s, k)[0] for k in ("c", "j", "mstar", "estar", "bstar", "const")})
+
+
 CLASS_ULPS = 8  # c's within 8 min(1 + 2c, 8) ulps of one another are one class: c = β/(2(α − β)) carries that
 # much rounding, α/(α − β) = 1 + 2c amplifying that of α and β (k = k′ = 2.5 on the cloth: 1.25 ± 14 ulps);
 # F, whose elasticity in c is below 1, moves by less than half that spread (tests/test_slip_kernel.py)
@@ -159,6 +172,9 @@ def _take(s: _Series, i: np.ndarray | slice) -> _Series:
 def _F(c: np.ndarray | None, z: np.ndarray, series: _Series | None = None) -> np.ndarray:
     """₂F₁(−½, c; c + 1; z) for c > 0, z ≤ 0, to a few ulps (comment above ``C_SERIES``); ``series``: the
     coefficients for c (``_series_of``) if known, one column or one per element."""
+    if z.__class__ is np.float64 and series is not None and series.c.__class__ is np.float64:
+        w = -z  # one scene as a numpy float (``_class_scalars``): the same sums, chosen without masks
+        return _pfaff_sum(w, series.p) if w <= 1 or series.c >= C_BIG else _split_sum(w, series)
     z = np.asarray(z, dtype=float)
     if series is None:  # (c may be None when ``series`` is given)
         c, z = np.broadcast_arrays(np.asarray(c, dtype=float), z)
@@ -194,12 +210,13 @@ def _split_sum(w: np.ndarray, s: _Series) -> np.ndarray:
     v, root, lw = 1 / (1 + w), np.sqrt(1 + w), np.log(w)
     L = np.log((1 + w) * 0.5)  # ln(½/v)
     with np.errstate(invalid="ignore", divide="ignore"):
-        E = np.where(es == 0, L, np.expm1(es * L) / es)
+        E = pick(es == 0, L, np.expm1(es * L) / es)
+    # (np.power, the ufunc of arrays, also for numpy floats: their ** operator calls the C library's pow)
     f = c0 * (np.exp(-c0 * lw) * s.const + root * np.exp(c0 * np.log1p(1 / w))
-              * (s.bstar * v**s.mstar * E - _horner(s.g, v)))
+              * (s.bstar * np.power(v, s.mstar) * E - _horner(s.g, v)))
     for step in range(int(np.max(j))):  # the contiguous relation up to c
         cc = c0 + step
-        f = np.where(j > step, (cc + 1) / (cc + 1.5) * (root * (1 + 1 / w) - f / w), f)
+        f = pick(j > step, (cc + 1) / (cc + 1.5) * (root * (1 + 1 / w) - f / w), f)
     return f
 
 
@@ -241,7 +258,7 @@ def _solve_x(target: np.ndarray, total: np.ndarray, e2: np.ndarray, r2: np.ndarr
             h[k] = _H_of(x[k], x[k] ** e2[k], r2[k], scale[k], _take(series, k))
         cold = ~(h > 0)  # H underflowed at a tiny start: the logarithm needs H > 0
         x[cold], h[cold] = 1.0, total[cold]
-    u = x ** e2
+    u = np.power(x, e2)
     live = np.ones(x.shape, dtype=bool)
     last = np.full(x.shape, np.inf)  # the previous step's size
     gather = series.p.shape[-1] == 1  # else the scenes that converged step on, unchanged (gathering the
@@ -251,21 +268,72 @@ def _solve_x(target: np.ndarray, total: np.ndarray, e2: np.ndarray, r2: np.ndarr
             return x, h, u
         i = np.nonzero(live)[0] if gather and not live.all() else slice(None)
         xi, ri, si, lv = x[i], r2[i], scale[i], live[i]
-        elasticity = xi * si * np.sqrt(1 + ri * u[i]) / h[i]  # dG/dy = x H′(x)/H
-        step = np.where(lv, (np.log(h[i]) - np.log(target[i])) / elasticity, 0.0)
+        step = np.where(lv, _log_step(xi, h[i], u[i], target[i], ri, si), 0.0)
         xn = np.minimum(xi * np.exp(-step), 1.0)
-        un = xn ** e2[i]
+        un = np.power(xn, e2[i])
         hn = _H_of(xn, un, ri, si, _take(series, i))
         x[i], u[i], h[i] = xn, un, hn
         size = np.abs(step)
-        done = ((size <= NEWTON_RTOL) | (np.abs(hn - target[i]) <= NEWTON_RTOL * total[i])
-                | ((size <= NEWTON_FLOOR) & (size >= 0.5 * last[i])))  # stalled at the noise of H
+        done = _solved(size, hn, target[i], total[i], last[i])
         last[i] = np.where(lv, size, last[i])
         live[i] = lv & ~done
     if live.any():
         raise ArithmeticError(f"slip decay: Newton did not converge in {NEWTON_MAXITER} steps for "
                               f"{int(live.sum())} scene(s)")
     return x, h, u
+
+
+def _alone(x0: np.ndarray, rate: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    """A slip with one component (or both decaying at one rate, α = β: its magnitude): dx = −rate dτ while
+    x > 0, then 0 (the elementary decays of the module docstring)."""
+    return np.maximum(x0 - rate * tau, 0.0)
+
+
+def _together(phi0: np.ndarray, psi0: np.ndarray, rate: np.ndarray, tau: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """α = β (§V n°12, two free balls): the slip keeps its direction, its magnitude decays as ``_alone``."""
+    v0 = np.hypot(phi0, psi0)
+    shrink = _alone(v0, rate, tau) / v0
+    return phi0 * shrink, psi0 * shrink
+
+
+def _log_step(x: np.ndarray, h: np.ndarray, u: np.ndarray, target: np.ndarray, r2: np.ndarray, scale: np.ndarray
+              ) -> np.ndarray:
+    """``_solve_x``'s Newton step in y = ln x: (ln H − ln target)/E, E = dG/dy = x H′(x)/H the elasticity."""
+    elasticity = x * scale * np.sqrt(1 + r2 * u) / h
+    return (np.log(h) - np.log(target)) / elasticity
+
+
+def _solved(size: np.ndarray, h: np.ndarray, target: np.ndarray, total: np.ndarray, last: np.ndarray) -> np.ndarray:
+    """``_solve_x``'s convergence test after a step of ``size`` (the previous one ``last``) that gave H = h."""
+    return ((size <= NEWTON_RTOL) | (np.abs(h - target) <= NEWTON_RTOL * total)
+            | ((size <= NEWTON_FLOOR) & (size >= 0.5 * last)))  # stalled at the noise of H
+
+
+def _solve_x_one(target: np.float64, total: np.float64, e2: np.float64, r2: np.float64, scale: np.float64,
+                 series: _Series) -> tuple[np.float64, np.float64, np.float64]:
+    """``_solve_x`` from x = 1 for one scene as numpy floats (``_class_scalars``): the same steps and test
+    (``_log_step``, ``_solved``), one scene needing no masks."""
+    x, h, last = np.float64(1.0), total, np.float64(np.inf)
+    u = np.power(x, e2)
+    for _ in range(NEWTON_MAXITER):
+        step = _log_step(x, h, u, target, r2, scale)
+        x = np.minimum(x * np.exp(-step), 1.0)
+        u = np.power(x, e2)
+        h = _H_of(x, u, r2, scale, series)
+        size = np.abs(step)
+        if _solved(size, h, target, total, last):
+            return x, h, u
+        last = size
+    raise ArithmeticError(f"slip decay: Newton did not converge in {NEWTON_MAXITER} steps for 1 scene(s)")
+
+
+def _general(phi0: np.ndarray, psi0: np.ndarray, d: np.ndarray, beta: np.ndarray
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """c = β/(2d) of ``_F`` and, for ``_H_of``, e2 = 1/c (u = x^e2), r2 = (φ0/ψ0)² and scale = ψ0/β."""
+    c = beta / (2 * d)
+    q = phi0 / psi0
+    return c, 1 / c, q * q, psi0 / beta
 
 
 class SlipDecay:
@@ -285,10 +353,9 @@ class SlipDecay:
         g = self.gen
         d = np.where(g, self.a - self.b, 1.0)  # (elsewhere unused: kept finite)
         b, s0 = np.where(g, self.b, 1.0), np.where(g, self.s0, 1.0)
-        c = b / (2 * d)
         # per scene, for ``_H_of``: u = x^e2, H(x) = scale x F(c, −r2 u); ``_F``'s coefficients, one column per
         # scene or one for all (``_series_of``: the other scenes take the first general scene's c)
-        self.e2, self.r2, self.scale = 1 / c, (self.f0 / s0) ** 2, s0 / b
+        c, self.e2, self.r2, self.scale = _general(self.f0, s0, d, b)
         self.series = _series_of(np.where(g, c, c[np.argmax(g)])) if g.any() else None
         self.total = np.where(g, self.scale * _F(None, -self.r2, self.series), np.nan) if g.any() else \
             np.full(g.shape, np.nan)
@@ -308,13 +375,11 @@ class SlipDecay:
             f1, s1, x = np.zeros_like(f0), np.zeros_like(s0), np.full(f0.shape, np.nan)
             a, b = self.a[idx], self.b[idx]
             o = self.only_f[idx]
-            f1[o] = np.maximum(f0[o] - a[o] * T[o], 0.0)
+            f1[o] = _alone(f0[o], a[o], T[o])
             o = self.only_s[idx]
-            s1[o] = np.maximum(s0[o] - b[o] * T[o], 0.0)
+            s1[o] = _alone(s0[o], b[o], T[o])
             o = self.iso[idx]
-            v0 = np.hypot(f0[o], s0[o])
-            shrink = np.maximum(v0 - a[o] * T[o], 0.0) / v0
-            f1[o], s1[o] = f0[o] * shrink, s0[o] * shrink
+            f1[o], s1[o] = _together(f0[o], s0[o], a[o], T[o])
             g = self.gen[idx]
             gi, F0, S0, Tg = idx[g], f0[g], s0[g], T[g]
         else:
@@ -351,7 +416,31 @@ class SlipDecay:
 
 def slip_decay(phi0: np.ndarray, psi0: np.ndarray, alpha: np.ndarray, beta: np.ndarray,
                tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Slip components (|φ1|, |ψ1|) after the impulse τ ≥ 0, from |φ0|, |ψ0| ≥ 0 (module docstring)."""
+    """Slip components (|φ1|, |ψ1|) after the impulse τ ≥ 0, from |φ0|, |ψ0| ≥ 0 (module docstring). One scene
+    as numpy floats (``paths.Path.scalar``) with an elementary decay takes ``SlipDecay.at``'s own formulas without
+    its arrays and masks (its branches in its order: ψ0 = 0, then φ0 = 0, then α = β); the same numbers."""
+    if phi0.__class__ is psi0.__class__ is alpha.__class__ is beta.__class__ is tau.__class__ is np.float64:
+        if not alpha < beta:  # (α < β swaps the roles of φ and ψ, as in ``SlipDecay``)
+            f0, s0, a, b, swap = phi0, psi0, alpha, beta, False
+        else:
+            f0, s0, a, b, swap = psi0, phi0, beta, alpha, True
+        zero = np.float64(0.0)
+        f1: np.ndarray
+        if s0 == 0:
+            f1, s1 = _alone(f0, a, tau), zero
+        elif f0 == 0:
+            f1, s1 = zero, _alone(s0, b, tau)
+        elif a == b:
+            f1, s1 = _together(f0, s0, a, tau)
+        else:  # the slip turns: ``SlipDecay`` and ``SlipDecay.at`` for one scene (x = U^β from 1, ``_solve_x``)
+            c, e2, r2, scale = _general(f0, s0, a - b, b)
+            series = _class_scalars(float(c))  # (``_series_of``: one c, its own class)
+            total = scale * _F(None, -r2, series)
+            x = u = np.float64(1.0 if tau <= 0 else 0.0)
+            if tau < total and tau > 0:
+                x, _, u = _solve_x_one(total - tau, total, e2, r2, scale, series)
+            f1, s1 = f0 * x * np.sqrt(u), s0 * x
+        return (s1, f1) if swap else (f1, s1)
     arrays = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (phi0, psi0, alpha, beta, tau)))
     shape = arrays[0].shape
     f1, s1, _ = SlipDecay(*arrays[:4]).at(arrays[4].ravel(), np.arange(arrays[0].size))

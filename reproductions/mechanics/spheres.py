@@ -69,7 +69,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .budget import bounded, check
-from .paths import PathCode, Regime, codes
+from .paths import PathCode, Regime, as_floats, batch_arrays, codes, pick
 from .slip import SlipDecay, SlipWalk, slip_decay
 
 __all__ = ["METHODS", "SpheresImpact", "contact_slip", "two_spheres"]
@@ -93,12 +93,25 @@ class SpheresImpact:
     label: str
 
 
+def _stack(*xs: Any) -> np.ndarray:
+    """``np.stack(xs, axis=-1)``; for one scene as numpy floats (``paths.Path.scalar``) the array of them, without
+    ``np.stack``'s fixed cost (the same numbers, placed alike)."""
+    if all(x.__class__ is np.float64 for x in xs):
+        return np.array(xs)
+    return np.stack(xs, axis=-1)
+
+
+def _fit(x: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+    """A copy of ``x`` broadcast to ``shape`` (``np.broadcast_to``'s fixed cost skipped where it has it)."""
+    return x.copy() if np.shape(x) == shape else np.broadcast_to(x, shape).copy()
+
+
 def contact_slip(v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, R: np.ndarray,
                  Rp: np.ndarray) -> np.ndarray:
     """Slip of M on M′ at the contact, eq. (1) of n°12, as (y, z) on the last axis."""
     sy = v[..., 1] - vp[..., 1] + R * w[..., 2] + Rp * wp[..., 2]
     sz = v[..., 2] - vp[..., 2] - R * w[..., 1] - Rp * wp[..., 1]
-    return np.stack([sy, sz], axis=-1)
+    return _stack(sy, sz)
 
 
 def _apply(M: np.ndarray, Mp: np.ndarray, R: np.ndarray, Rp: np.ndarray, k: np.ndarray, kp: np.ndarray,
@@ -108,10 +121,10 @@ def _apply(M: np.ndarray, Mp: np.ndarray, R: np.ndarray, Rp: np.ndarray, k: np.n
     −(ξ x̂ + T) on M at R x̂ and ξ x̂ + T on M′ at −R′ x̂, T = (0, T_y, T_z); the moments R x̂ × (−T) and
     (−R′ x̂) × T are both R(0, T_z, −T_y) (R′ for M′). On the cloth the cloth takes the vertical impulses."""
     Ty, Tz = T[..., 0], T[..., 1]
-    zero = np.zeros_like(xi)
-    dv = np.stack([-xi / M, -Ty / M, zero if on_cloth else -Tz / M], axis=-1)
-    dvp = np.stack([xi / Mp, Ty / Mp, zero if on_cloth else Tz / Mp], axis=-1)
-    turn = np.stack([zero, Tz, -Ty], axis=-1)
+    zero = np.float64(0.0) if xi.__class__ is np.float64 else np.zeros_like(xi)
+    dv = _stack(-xi / M, -Ty / M, zero if on_cloth else -Tz / M)
+    dvp = _stack(xi / Mp, Ty / Mp, zero if on_cloth else Tz / Mp)
+    turn = _stack(zero, Tz, -Ty)
     return v + dv, w + (k / (M * R))[..., None] * turn, vp + dvp, wp + (kp / (Mp * Rp))[..., None] * turn
 
 
@@ -123,12 +136,13 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
     wp have the vector on the last axis; the other inputs broadcast over the batch. M must approach M′."""
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    v, w, vp, wp = (np.asarray(x, dtype=float) for x in (v, w, vp, wp))
-    batch = np.broadcast_shapes(v.shape[:-1], w.shape[:-1], vp.shape[:-1], wp.shape[:-1],
-                                *(np.shape(x) for x in (M, Mp, R, Rp, k, kp, f, eps, epsp)))
-    v, w, vp, wp = (np.broadcast_to(x, (*batch, 3)) for x in (v, w, vp, wp))
-    M, Mp, R, Rp, k, kp, f, eps, epsp = (np.broadcast_to(np.asarray(x, dtype=float), batch)
-                                         for x in (M, Mp, R, Rp, k, kp, f, eps, epsp))
+    v, w, vp, wp = as_floats(v, w, vp, wp)
+    M, Mp, R, Rp, k, kp, f, eps, epsp = batch_arrays(M, Mp, R, Rp, k, kp, f, eps, epsp)
+    batch = np.shape(M)
+    if not v.shape[:-1] == w.shape[:-1] == vp.shape[:-1] == wp.shape[:-1] == batch:  # (one scene: numpy floats)
+        batch = np.broadcast_shapes(v.shape[:-1], w.shape[:-1], vp.shape[:-1], wp.shape[:-1], batch)
+        v, w, vp, wp = (np.broadcast_to(x, (*batch, 3)) for x in (v, w, vp, wp))
+        M, Mp, R, Rp, k, kp, f, eps, epsp = (np.broadcast_to(x, batch) for x in (M, Mp, R, Rp, k, kp, f, eps, epsp))
     mu = M / Mp
     approach = v[..., 0] - vp[..., 0]
     omega = approach / (1 + mu)  # speed lost by M at the greatest compression
@@ -146,7 +160,7 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         if on_cloth:  # §VI (11)-(15): first order in f
             omega1 = 2 * omega * (1 + mu) / ((1 + eps) + mu * (1 + epsp))
         else:  # §V (8): sliding throughout
-            S = 1 + f**2 * (1 + k) + mu * (1 + f**2 * (1 + kp))
+            S = 1 + f * f * (1 + k) + mu * (1 + f * f * (1 + kp))
             omega1 = 2 * omega * S / S_eps(f)
         xi = M * omega1
         unit = s0 / np.where(s0n > 0, s0n, 1.0)[..., None]
@@ -173,15 +187,16 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         final = None  # on the cloth: the slip after, from the end of the fixed point
         if not on_cloth:
             w_c = np.maximum(s0n - f * cy * M * omega, 0.0)
-            s_c = s0 * (w_c / np.where(s0n > 0, s0n, 1.0))[..., None]
+            s_c = s0 * (w_c / pick(s0n > 0, s0n, 1.0))[..., None]
             omega1 = (2 * approach + 2 * f * s0n - 2 * f * w_c) / S_eps(f)
             stick = f * cy * M * omega1 > s0n  # the slip stops during the restitution
             # quadratic α ω1² − 2Δ ω1 + β = 0 with λ = |s0|/(c M ω1)
             alpha = (1 + eps) + mu * (1 + epsp)
-            beta = (s0n / (cy * M)) ** 2 * ((1 + k) * (1 + eps) + mu * (1 + kp) * (1 + epsp)) \
+            lam0 = s0n / (cy * M)
+            beta = lam0 * lam0 * ((1 + k) * (1 + eps) + mu * (1 + kp) * (1 + epsp)) \
                 - 2 * s0n * (s0n - w_c) / (cy * M)
-            disc = np.maximum(approach**2 - alpha * beta, 0.0)
-            omega1 = np.where(stick, (approach + np.sqrt(disc)) / alpha, omega1)
+            disc = np.maximum(approach * approach - alpha * beta, 0.0)
+            omega1 = pick(stick, (approach + np.sqrt(disc)) / alpha, omega1)
         else:
             omega1, converged, s_c, final = _cloth_normal_impulse(s0, approach, omega, M, cy, cz, f, coef)
         xi = M * omega1
@@ -189,22 +204,22 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
             a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
         else:
             a1, b1 = (x.reshape(batch) for x in final)
-        s1 = np.stack([np.sign(s0[..., 0]) * a1, np.sign(s0[..., 1]) * b1], axis=-1)
+        s1 = _stack(np.sign(s0[..., 0]) * a1, np.sign(s0[..., 1]) * b1)
         label = ("exact: slip decay in closed form (₂F₁), normal impulse from law (6) by Newton's method"
                  if on_cloth else "exact: closed form, sliding or sticking (law (6) as a quadratic)")
-        T = np.stack([(s0[..., 0] - s1[..., 0]) / cy, (s0[..., 1] - s1[..., 1]) / cz], axis=-1)
+        T = _stack((s0[..., 0] - s1[..., 0]) / cy, (s0[..., 1] - s1[..., 1]) / cz)
         stops = (np.hypot(s1[..., 0], s1[..., 1]) <= 1e-12 * np.maximum(s0n, 1e-300)) & (s0n > 0)
     v1, w1, v1p, w1p = _apply(M, Mp, R, Rp, k, kp, v, w, vp, wp, xi, T, on_cloth)
     regime = np.where(s0n == 0, Regime.NO_SLIP, np.where(stops, Regime.GRIP, Regime.SLIDE)).astype(np.int8)
-    return SpheresImpact(v1, w1, v1p, w1p, omega1, T, np.broadcast_to(s_c, (*batch, 2)).copy(),
-                         np.broadcast_to(converged, batch).copy(), method, codes(batch, PathCode[method.upper()]),
-                         regime, label)
+    return SpheresImpact(v1, w1, v1p, w1p, omega1, T, _fit(s_c, (*batch, 2)), _fit(converged, batch), method,
+                         codes(batch, PathCode[method.upper()]), regime, label)
 
 
 def _law6_S(lam: np.ndarray, k: np.ndarray, kp: np.ndarray, eps: np.ndarray, epsp: np.ndarray,
             mu: np.ndarray) -> np.ndarray:
     """S_ε(λ) of law (6) with λ = |T|/ξ (module docstring; §V eq. (8), §VI)."""
-    return (1 + lam**2 * (1 + k)) * (1 + eps) + mu * (1 + lam**2 * (1 + kp)) * (1 + epsp)
+    lam2 = lam * lam  # (x * x, not x**2: numpy's scalar power calls the C library's pow; ``paths.Path.scalar``)
+    return (1 + lam2 * (1 + k)) * (1 + eps) + mu * (1 + lam2 * (1 + kp)) * (1 + epsp)
 
 
 def _law_coefficients(M: np.ndarray, mu: np.ndarray, k: np.ndarray, kp: np.ndarray, eps: np.ndarray,

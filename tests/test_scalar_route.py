@@ -1,0 +1,168 @@
+"""One scene on numpy floats (``paths.Path.scalar``, ``paths._run_one``) against the batch route, bit for bit
+(issue 34, item 1).
+
+The scalar route runs the same functions as the batch route, on numpy floats instead of arrays: two free balls
+(§V n°12, ``spheres.two_spheres``), the cushion's exact path (§IV n°11, the ₂F₁ kernel ``slip._F`` and the Newton
+solve of the slip decay on floats, ``slip._solve_x_one``), and ``slip.slip_decay`` itself. Every model × path on
+seeded scenes and on scenes built to reach each regime and each branch of the kernel (Pfaff's series, the split
+series and its contiguous steps, c ≥ C_BIG, the slip that stops, the roles of φ and ψ swapped), and the decay on
+scenes hypothesis draws.
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from reproductions.mechanics import paths, registry, slip
+from reproductions.mechanics.paths import PathCode, Regime
+
+
+def _bits(x):
+    """The bytes of an array, NaNs made one NaN (their sign bit depends on the instruction, not the formula)."""
+    x = np.ascontiguousarray(x).reshape(-1)
+    if x.dtype.kind == "f":
+        x = np.where(np.isnan(x), np.nan, x)
+    return x.view(np.uint8)
+
+
+def _same(a, b, what):
+    fa = {f.name: getattr(a, f.name) for f in dataclasses.fields(a)}
+    fb = {f.name: getattr(b, f.name) for f in dataclasses.fields(b)}
+    assert type(a) is type(b) and fa.keys() == fb.keys(), what
+    for name, x in fa.items():
+        y = fb[name]
+        if isinstance(x, np.ndarray) or isinstance(y, np.ndarray):
+            assert type(x) is np.ndarray and type(y) is np.ndarray, (what, name, type(x), type(y))
+            assert x.dtype == y.dtype and x.shape == y.shape, (what, name, x.dtype, y.dtype, x.shape, y.shape)
+            np.testing.assert_array_equal(_bits(x), _bits(y), err_msg=f"{what}: {name} ({x} against {y})")
+        else:
+            assert x == y, (what, name, x, y)
+
+
+# scenes built to reach each regime and branch (values given; the model's defaults for the rest)
+CUSHION = [  # §IV: the slip turns (n0 ≠ 0, φ0 ≠ 0), for k = 2c across the kernel's branches
+    {"chi0": 1.0, "zeta0": -1.0, "p0": 5.0, "n0": -32.0, "j": 0.2, "eps": 0.3},  # w < 1: Pfaff's series
+    {"chi0": 3.0, "zeta0": -0.5, "p0": 0.0, "n0": 2.0, "j": 0.1, "eps": 0.6},  # φ0 ≫ ψ0: the split series
+    {"chi0": 3.0, "zeta0": -0.5, "p0": 0.0, "n0": 2.0, "j": 0.1, "eps": 0.6, "k": 1.5},
+    {"chi0": 3.0, "zeta0": -0.5, "p0": 0.0, "n0": 2.0, "j": 0.1, "eps": 0.6, "k": 9.0},  # c > 3: contiguous steps
+    {"chi0": 3.0, "zeta0": -0.5, "p0": 0.0, "n0": 2.0, "j": 0.1, "eps": 0.6, "k": 40.0},  # c ≥ C_BIG
+    {"chi0": -2.0, "zeta0": -2.0, "p0": 10.0, "n0": 80.0, "j": 0.05, "eps": 0.9},  # ψ0 ≫ φ0
+    {"chi0": 0.3, "zeta0": -3.0, "p0": 0.0, "n0": 5.0, "j": 0.6, "eps": 0.0},  # the slip stops (GRIP)
+    {"chi0": 1.0, "zeta0": -1.0, "p0": 0.0, "n0": 0.0, "j": 0.2, "eps": 0.3},  # n0 = 0: elementary
+    {"chi0": 1.0, "zeta0": -1.0, "p0": 32.0, "R": 0.03125, "n0": 0.0, "j": 0.2, "eps": 0.3},  # no slip: χ0 = p0R
+    {"chi0": 1.0, "zeta0": -1.0, "p0": 0.0, "n0": 3.0, "j": 0.0, "eps": 0.3},  # no friction
+]
+SPHERES = [  # §V, §VI: slides, the slip stops, no slip, no friction, head on
+    {"v": [1.0, 0.2, 0.0], "f": 0.2, "eps": 0.3, "epsp": 0.4},
+    {"v": [2.0, 0.0, 0.0], "w": [0.0, 0.0, 3.0], "f": 0.05, "eps": 0.1, "epsp": 0.2},
+    {"v": [2.0, 0.05, 0.0], "f": 0.5, "eps": 0.5, "epsp": 0.5},
+    {"v": [2.0, 0.0, 0.0], "f": 0.3, "eps": 0.2, "epsp": 0.7},
+    {"v": [1.0, 0.3, 0.0], "w": [5.0, 20.0, -10.0], "vp": [-0.5, 0.1, 0.0], "f": 0.0, "eps": 0.3, "epsp": 0.4},
+    {"v": [1.0, 0.3, 0.0], "w": [0.0, -40.0, 10.0], "f": 0.3, "eps": 1.0, "epsp": 1.0, "M": 0.1, "Mp": 0.4},
+]
+BUILT = {"cushion-impact": CUSHION, "spheres-free": SPHERES, "spheres-cloth": SPHERES}
+
+
+def _scenes(m, seed, count):
+    """Single scenes (batch () and (1,)) of ``m``: sampled, then the built ones of ``BUILT``."""
+    raw = m.sample(np.random.default_rng(seed), count)
+    n = len(next(v for k, v in raw.items() if k not in m.static))
+    values = [{k: (v if k in m.static else np.asarray(v)[i]) for k, v in raw.items()} for i in range(n)]
+    values += BUILT.get(m.name, [])
+    for v in values:
+        for shape in ((), (1,)):
+            one = {}
+            for k, x in v.items():
+                x = np.asarray(x, dtype=float)
+                one[k] = x if (k in m.static or shape == ()) else x.reshape(1, *x.shape)
+            yield m.scene(one)
+
+
+PAIRS = [(m.name, p.name) for m in registry.MODELS.values() for p in m.paths]
+
+
+@pytest.mark.parametrize("model,path", PAIRS)
+def test_each_path_on_one_scene_by_both_routes(model, path):
+    m = registry.MODELS[model]
+    p = m.path(path)
+    count = 2 if p.code in (PathCode.ODE, PathCode.REFERENCE) or model == "ricochet" else 12
+    ran = 0
+    with np.errstate(all="ignore"):
+        for s in _scenes(m, 21, count):
+            if not (np.all(m.admissible(s)) and np.all(p.handles(s))):
+                continue
+            if p.code in (PathCode.ODE, PathCode.REFERENCE) and ran >= 4:
+                break
+            _same(paths.by_route(m, s, path, "small"), paths.by_route(m, s, path, "general"), f"{model}/{path}")
+            ran += 1
+    if not ran:
+        pytest.skip(f"{path} handles none of the scenes")
+
+
+@pytest.mark.parametrize("model", list(registry.MODELS))
+def test_auto_on_one_scene_by_both_routes(model, monkeypatch):
+    """``auto`` on single scenes against the general route; a single scene whose path declares ``scalar`` runs on
+    its numpy floats (never the flattened batch)."""
+    m = registry.MODELS[model]
+    single = paths._auto_single
+
+    def guarded(p, flat, n, batch):
+        assert not (p.scalar and n == 1), f"{model}: {p.name} ran on arrays for one scene"
+        return single(p, flat, n, batch)
+
+    regimes = set()
+    with np.errstate(all="ignore"):
+        for s in _scenes(m, 8, 4 if model == "ricochet" else 12):
+            want = paths.auto_by_masks(m, s)
+            monkeypatch.setattr(paths, "_auto_single", guarded)
+            got = paths.solve(m, s, "auto")
+            monkeypatch.setattr(paths, "_auto_single", single)
+            _same(got, want, f"{model}, one scene")
+            regimes.update(np.ravel(got.regime).tolist())
+    if model in BUILT:  # the built scenes reach every regime with a slip
+        assert {Regime.SLIDE, Regime.GRIP, Regime.NO_SLIP} <= regimes, (model, regimes)
+
+
+def test_the_cushion_turning_slip_and_two_free_balls_take_the_scalar_route():
+    for name, values, code in (("cushion-impact", CUSHION[0], PathCode.EXACT),
+                               ("spheres-free", SPHERES[0], PathCode.EXACT)):
+        m = registry.MODELS[name]
+        p = next(q for q in m.paths if q.code == code)
+        assert p.scalar
+        res = paths.solve(m, m.scene(values), "auto")
+        assert int(res.path) == code and res.label.startswith("auto: 1 by ")
+
+
+def _decay_both(phi0, psi0, alpha, beta, tau):
+    one = slip.slip_decay(*(np.float64(x) for x in (phi0, psi0, alpha, beta, tau)))
+    arr = slip.slip_decay(*(np.array([x], dtype=float) for x in (phi0, psi0, alpha, beta, tau)))
+    assert all(type(x) is np.float64 for x in one)
+    for a, b in zip(one, arr, strict=True):
+        np.testing.assert_array_equal(_bits(np.array([a])), _bits(b), err_msg=str((phi0, psi0, alpha, beta, tau)))
+
+
+@pytest.mark.parametrize("phi0,psi0,alpha,beta", [
+    (0.8, 0.9, 3.5, 2.5), (3.0, 0.06, 3.5, 2.5), (0.06, 3.0, 3.5, 2.5), (3.0, 0.06, 2.5, 3.5),  # turning; swapped
+    (3.0, 0.06, 41.0, 40.0), (3.0, 0.06, 10.0, 9.0), (3.0, 0.06, 2.5, 1.5), (1e-3, 5.0, 60.0, 0.6),
+    (1.0, 0.0, 3.5, 2.5), (0.0, 1.0, 3.5, 2.5), (0.0, 0.0, 3.5, 2.5), (0.6, 0.8, 2.0, 2.0),  # elementary
+])
+def test_the_decay_of_one_scene_on_floats_is_the_batch_decay(phi0, psi0, alpha, beta):
+    total = float(slip.SlipDecay(np.array([phi0]), np.array([psi0]), np.array([alpha]), np.array([beta])).total[0])
+    scale = total if np.isfinite(total) else np.hypot(phi0, psi0) / min(alpha, beta)
+    for frac in (-0.1, 0.0, 1e-9, 0.3, 0.7, 0.999999, 1.0, 1.5):  # before, at the start, inside, at and past the stop
+        _decay_both(phi0, psi0, alpha, beta, frac * scale)
+
+
+_pos = st.floats(1e-4, 1e3)
+
+
+@settings(max_examples=300, deadline=None)
+@given(phi0=st.one_of(st.just(0.0), _pos), psi0=st.one_of(st.just(0.0), _pos), beta=st.floats(0.3, 60.0),
+       ratio=st.one_of(st.just(1.0), st.floats(0.02, 50.0)), frac=st.floats(-0.2, 1.3))
+def test_the_decay_on_floats_is_the_batch_decay_on_drawn_scenes(phi0, psi0, beta, ratio, frac):
+    alpha = beta * ratio
+    scale = np.hypot(phi0, psi0) / min(alpha, beta)
+    _decay_both(phi0, psi0, alpha, beta, frac * scale)
