@@ -9,8 +9,19 @@ from typing import Annotated
 import typer
 
 from cli.app import app
-from cli.common import _fail, _known_models, _out_folder, _print_grouped, _write_report, err_console, out_console
+from cli.common import (
+    _count,
+    _fail,
+    _known_models,
+    _out_folder,
+    _print_grouped,
+    _write_report,
+    err_console,
+    out_console,
+)
 from reproductions.errors import InputError
+
+MAX_JOBS = 256  # as `reproduce --jobs` and `stress --jobs`: a pool forks all its workers at once
 
 
 def _micro(us: float) -> str:
@@ -25,6 +36,11 @@ def bench(
     quick: Annotated[bool, typer.Option("--quick", help="small batches: a check that ends in seconds")] = False,
     out: Annotated[Path, typer.Option("--out", help="folder for bench.json, bench.md, figures",
                                       parser=_out_folder)] = Path("results/bench"),
+    jobs: Annotated[int | None, typer.Option(help=f"processes for the ODE part, 1 to {MAX_JOBS} (default: one per "
+                                                  "core; 1: this one)",
+                                             parser=_count("--jobs", 1, MAX_JOBS, "a number of processes"))] = None,
+    scheduler: Annotated[str | None, typer.Option(help="run the ODE part on this Dask scheduler (tcp://host:port; "
+                                                       "pip install 'resal[cluster]')")] = None,
 ) -> None:
     """Benchmark every model × path: time per scene against error.
 
@@ -39,6 +55,8 @@ def bench(
     path of every model, and auto's Pareto verdict (wrong if another exact path is faster and as accurate).
     `fit` times `resal fit` on large files of each kind (100 rows with --quick; 1000 and 10 000 without; a fresh
     process each, with its peak memory); the full benchmark includes it. Without --quick it takes minutes.
+    The ODE paths and referees run first, one process per core (--jobs) or on a Dask cluster (--scheduler): their
+    scenes per second are per worker; the closed forms are then timed alone, in this process.
     """
     from rich.progress import Progress
 
@@ -64,7 +82,10 @@ def bench(
         def step(what: str) -> None:
             bar.update(task, advance=1, description=what)
 
-        rep = bench_mod.run(names, quick=quick, progress=step)
+        try:
+            rep = bench_mod.run(names, quick=quick, progress=step, jobs=jobs, scheduler=scheduler)
+        except InputError as err:
+            _fail(err)
     written = _write_report(bench_mod.write, rep, out, "benchmark")
     groups = []
     for mod in rep["models"]:

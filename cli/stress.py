@@ -11,6 +11,8 @@ from cli.app import app
 from cli.common import _count, _fail, _known_models, _out_folder, _print_grouped, _write_report, err_console
 from reproductions.errors import InputError
 
+MAX_JOBS = 256  # as `reproduce --jobs`: a pool forks all its workers at once, so a typo must not fork thousands
+
 
 @app.command()
 def stress(
@@ -25,6 +27,10 @@ def stress(
     seed: Annotated[int, typer.Option(help="seed of the random scenes", parser=_count("--seed", 0, 2**63 - 1))] = 12,
     out: Annotated[Path, typer.Option("--out", help="folder for stress.json and stress.md",
                                       parser=_out_folder)] = Path("results/stress"),
+    jobs: Annotated[int | None, typer.Option(help=f"processes, 1 to {MAX_JOBS} (default: one per core; 1: this one)",
+                                             parser=_count("--jobs", 1, MAX_JOBS, "a number of processes"))] = None,
+    scheduler: Annotated[str | None, typer.Option(help="run the chunks on this Dask scheduler (tcp://host:port; "
+                                                       "pip install 'resal[cluster]')")] = None,
 ) -> None:
     """Stress every model × path over random, extreme scenes.
 
@@ -34,7 +40,8 @@ def stress(
       resal stress --scenes 1000 --ode-scenes 2 --referee-scenes 2
 
     Every path of every model (or of the models named) runs on random scenes, the physical range and beyond;
-    exit status 1 on any failure. The defaults take minutes.
+    exit status 1 on any failure. The defaults take minutes. The scenes run in chunks on one process per core
+    (--jobs), or on a Dask cluster (--scheduler); the same seed gives the same report, but for its timings.
     """
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
@@ -56,8 +63,11 @@ def stress(
         def step(model: str, k: int) -> None:
             bar.update(task, advance=k, description=f"stress: {model}")
 
-        rep = stress_mod.run(names, scenes=scenes, ode_scenes=ode_scenes, seed=seed, progress=step,
-                             referee_scenes=referee_scenes)
+        try:
+            rep = stress_mod.run(names, scenes=scenes, ode_scenes=ode_scenes, seed=seed, progress=step,
+                                 referee_scenes=referee_scenes, jobs=jobs, scheduler=scheduler)
+        except InputError as err:
+            _fail(err)
     written = _write_report(stress_mod.write, rep, out, "stress report")
     groups = []
     for mod in rep["models"]:

@@ -104,69 +104,174 @@ def ode_grid(m: paths.Model, s: dict[str, np.ndarray], exact: Any, solvers: Sequ
     return out
 
 
+def _is_slow(p: paths.Path | None) -> bool:
+    """An ODE path or a referee (cost ≥ 1000): timed in the pool's workers, the closed forms in the parent alone."""
+    return p is not None and p.cost >= 1000
+
+
+def _samples(m: paths.Model, n_fast: int, n_ode: int, seed: int) -> tuple[dict, dict]:
+    return m.scene(m.sample(np.random.default_rng(seed), n_ode)), m.scene(m.sample(np.random.default_rng(seed + 1),
+                                                                                  n_fast))
+
+
+def _exact_name(m: paths.Model) -> str:
+    return next(p.name for p in m.paths if p.code is paths.PathCode.EXACT)
+
+
+def _referee_name(m: paths.Model) -> str | None:
+    return next((p.name for p in m.paths if p.kind is paths.Kind.REFEREE), None)
+
+
+def _path_row(m: paths.Model, name: str, small: dict, big: dict, ref: Any, ref_name: str, ref_label: str,
+              repeat: int) -> dict[str, Any]:
+    """One path's row: its errors against ``ref`` on the small batch, its time per scene (the big batch for a
+    closed form, the small one for an ODE path or a referee), its predicate's, the floor, one scene (N = 1)."""
+    p = m.path(name) if name != "auto" else None
+    n_ode = int(np.size(small[paths.ONES]))
+    keep = np.ones(n_ode, bool) if p is None else np.asarray(p.handles(small), dtype=bool)
+    sub = _take(m, small, keep)
+    ref_sub = (_take_res(ref, keep) if not keep.all() else ref)
+    res = paths.solve(m, sub, name)
+    err = m.error(sub, res, ref_sub)
+    exact = np.ones(err.shape, bool) if p is None else np.asarray(p.exact_when(sub), dtype=bool)
+    ode_cost = _is_slow(p)
+    batch = small if ode_cost else big
+    if p is not None:
+        batch = _take(m, batch, np.asarray(p.handles(batch), dtype=bool))
+    count = int(np.size(batch[paths.ONES]))
+    res_batch = paths.solve(m, batch, name) if count else None  # the warm-up, and the outputs for the floor
+    t = _best_of(lambda b=batch, n=name: paths.solve(m, b, n), 1 if ode_cost else repeat,
+                 warm=False) if count else np.nan
+    # what it costs auto to know that this path is exact for a scene (its declared predicate)
+    t_pred = _best_of(lambda b=batch, q=p: q.exact_when(b), repeat) if count and p is not None else 0.0
+    floor = _floor(m, batch, res_batch, repeat) if count else np.nan
+    # one scene (N = 1), the first of the small batch that the path handles: what a user waiting on one
+    # `resal simulate` or one `api.simulate` call pays, overhead included
+    first = np.flatnonzero(keep)[:1]
+    one = _take(m, small, np.isin(np.arange(n_ode), first)) if first.size else None
+    t_one = (_best_of(lambda b=one, n=name: paths.solve(m, b, n), 1 if ode_cost else N1_REPEAT)
+             if one is not None else np.nan)
+    referee = _referee_name(m)
+    return {
+        "path": name, "kind": "auto" if p is None else p.kind.value, "cost": None if p is None else p.cost,
+        "declared_accuracy": None if p is None else p.accuracy,
+        "reference": (referee or "ode") if ref_name == "ode" else ref_name,
+        "reference_method": ref_label if ref_name == "ode" else f"{ref_name} path",
+        "scenes_timed": count, "seconds_per_scene": t / max(count, 1), "scenes_per_second": count / t,
+        "predicate_seconds_per_scene": t_pred / max(count, 1), "n1_seconds": t_one,
+        "floor_fraction": floor / t, "where_exact": _stats(err[exact]) | {"scenes": int(exact.sum())},
+        "all_scenes": _stats(err) | {"scenes": int(err.size)},
+    }
+
+
+def _reference(m: paths.Model, small: dict) -> tuple[Any, str]:
+    """The reference the closed forms are judged against: the referee where the model has one (it shares no code
+    with them), else the ODE path at a tight tolerance."""
+    referee = _referee_name(m)
+    if referee is not None:
+        return paths.solve(m, small, referee), f"{referee} (the referee, shares no code)"
+    return _tight(m, small)
+
+
+def _ode_task(task: tuple) -> Any:
+    """One piece of the benchmark's ODE part, in whichever process runs it: ``("tight", model, n_fast, n_ode,
+    seed)`` (the reference of the closed forms), ``("row", …, path, repeat)`` (an ODE path's or a referee's row,
+    judged against the exact path, timed here: its throughput per worker) or ``("grid", …, solvers, rtols)``."""
+    kind, name, n_fast, n_ode, seed, *args = task
+    m = registry.MODELS[name]
+    small, big = _samples(m, n_fast if kind == "row" else 1, n_ode, seed)
+    if kind == "tight":
+        return _reference(m, small)
+    exact_name = _exact_name(m)
+    exact = paths.solve(m, small, exact_name)
+    if kind == "row":
+        path, repeat = args
+        return _path_row(m, path, small, big, exact, exact_name, "", repeat)
+    solvers, rtols = args
+    few = np.arange(int(np.size(small[paths.ONES]))) < GRID_SCENES  # the grid is 12 integrations per scene
+    return ode_grid(m, _take(m, small, few), _take_res(exact, few), solvers, rtols)
+
+
+def _ode_tasks(m: paths.Model, n_ode: int, repeat: int, seed: int, solvers: Sequence[str],
+               rtols: Sequence[float]) -> list[tuple]:
+    # the row of a slow path times it on the small batch only: the big one is not drawn (n_fast 1)
+    return ([("tight", m.name, 1, n_ode, seed)]
+            + [("row", m.name, 1, n_ode, seed, p.name, repeat) for p in m.paths if _is_slow(p)]
+            + [("grid", m.name, 1, n_ode, seed, tuple(solvers), tuple(rtols))])
+
+
+def _part(task: tuple) -> str:
+    """The key of a task's result in ``model_rows``'s ``ode_part``: the path of a row, else the task's kind."""
+    return task[5] if task[0] == "row" else task[0]
+
+
+def _step(task: tuple) -> str:
+    """The progress bar's text for a task done."""
+    return f"{task[1]}: {task[5]}" if task[0] == "row" else f"{task[1]}: ODE solvers × tolerances"
+
+
+def ode_parts(models: Sequence[str], cfg: dict[str, Any], jobs: int | None = None, scheduler: str | None = None,
+              progress: Callable[[str], None] | None = None, seed: int = 5) -> tuple[dict[str, dict], dict]:
+    """The ODE part of every model (the references, the ODE paths' and referees' rows, the solver grids) on the
+    executor of ``jobs`` and ``scheduler`` (``sweep.executor``), and how it ran: each slow path timed in the
+    worker that ran it, so its scenes per second are a throughput per worker (per core)."""
+    from .sweep import executor
+
+    tasks = [t for name in models for t in _ode_tasks(registry.MODELS[name], cfg["n_ode"], cfg["repeat"], seed,
+                                                      cfg["solvers"], cfg["rtols"])]
+
+    def done(i: int, result: Any, seconds: float) -> None:
+        if progress and tasks[i][0] != "tight":
+            progress(_step(tasks[i]))
+
+    t0 = time.perf_counter()
+    with executor(jobs, scheduler) as ex:
+        results = ex.map(_ode_task, tasks, done)
+        how = ex.describe()
+    parts: dict[str, dict] = {name: {} for name in models}
+    for t, r in zip(tasks, results, strict=True):
+        parts[t[1]][_part(t)] = r
+    how["wall_seconds"] = round(time.perf_counter() - t0, 2)
+    per: dict[str, dict[str, Any]] = {}
+    for name in models:
+        for p in registry.MODELS[name].paths:
+            if _is_slow(p):
+                r = parts[name][p.name]
+                kind = per.setdefault(p.kind.value, {"scenes": 0, "seconds": 0.0, "models": {}})
+                kind["scenes"] += r["scenes_timed"]
+                kind["seconds"] += r["seconds_per_scene"] * r["scenes_timed"]
+                kind["models"][name] = r["scenes_per_second"]
+    for kind in per.values():
+        kind["scenes_per_second_per_worker"] = kind["scenes"] / kind["seconds"] if kind["seconds"] > 0 else None
+    how["throughput"] = per
+    return parts, how
+
+
 def model_rows(m: paths.Model, n_fast: int, n_ode: int, repeat: int, seed: int = 5,
                progress: Callable[[str], None] | None = None, solvers: Sequence[str] = ("DOP853",),
-               rtols: Sequence[float] = (1e-9,)) -> dict[str, Any]:
+               rtols: Sequence[float] = (1e-9,), ode_part: dict[str, Any] | None = None) -> dict[str, Any]:
     """Every path of one model and ``auto``: errors against the reference, times, the floor, the verdict; and
-    the ODE path's work-precision grid over scipy's solvers and tolerances."""
-    small = m.scene(m.sample(np.random.default_rng(seed), n_ode))
-    big = m.scene(m.sample(np.random.default_rng(seed + 1), n_fast))
-    # the reference the paths are judged against: the referee where the model has one (it shares no code with
-    # them), else the ODE path at a tight tolerance; the referee and the ODE are judged against the exact path
-    referee = next((p.name for p in m.paths if p.kind is paths.Kind.REFEREE), None)
-    if referee is not None:
-        tight, tight_label = paths.solve(m, small, referee), f"{referee} (the referee, shares no code)"
-    else:
-        tight, tight_label = _tight(m, small)
-    refs = {"ode": tight, "exact": None}
-    exact_name = next(p.name for p in m.paths if p.code is paths.PathCode.EXACT)
-    refs["exact"] = paths.solve(m, small, exact_name)
+    the ODE path's work-precision grid over scipy's solvers and tolerances. ``ode_part``: the slow part already
+    computed (``_ode_task``'s results by kind and path, on the pool); else it is computed here."""
+    small, big = _samples(m, n_fast, n_ode, seed)
+    if ode_part is None:
+        ode_part = {}
+        for t in _ode_tasks(m, n_ode, repeat, seed, solvers, rtols):
+            if progress and t[0] != "tight":
+                progress(_step(t))
+            ode_part[_part(t)] = _ode_task(t)
+    tight, tight_label = ode_part["tight"]
     auto_small = paths.solve(m, small, "auto")
     rows = []
     for name in [p.name for p in m.paths] + ["auto"]:
+        p = m.path(name) if name != "auto" else None
+        if _is_slow(p):
+            rows.append(ode_part[name])
+            continue
         if progress:
             progress(f"{m.name}: {name}")
-        p = m.path(name) if name != "auto" else None
-        keep = np.ones(n_ode, bool) if p is None else np.asarray(p.handles(small), dtype=bool)
-        sub = _take(m, small, keep)
-        ref_name = exact_name if name in ("ode", referee) else "ode"
-        ref = refs[ref_name]
-        ref_sub = (_take_res(ref, keep) if not keep.all() else ref)
-        res = paths.solve(m, sub, name)
-        err = m.error(sub, res, ref_sub)
-        exact = np.ones(err.shape, bool) if p is None else np.asarray(p.exact_when(sub), dtype=bool)
-        ode_cost = p is not None and p.cost >= 1000
-        batch = small if ode_cost else big
-        if p is not None:
-            batch = _take(m, batch, np.asarray(p.handles(batch), dtype=bool))
-        count = int(np.size(batch[paths.ONES]))
-        res_batch = paths.solve(m, batch, name) if count else None  # the warm-up, and the outputs for the floor
-        t = _best_of(lambda b=batch, n=name: paths.solve(m, b, n), 1 if ode_cost else repeat,
-                     warm=False) if count else np.nan
-        # what it costs auto to know that this path is exact for a scene (its declared predicate)
-        t_pred = _best_of(lambda b=batch, q=p: q.exact_when(b), repeat) if count and p is not None else 0.0
-        floor = _floor(m, batch, res_batch, repeat) if count else np.nan
-        # one scene (N = 1), the first of the small batch that the path handles: what a user waiting on one
-        # `resal simulate` or one `api.simulate` call pays, overhead included
-        first = np.flatnonzero(keep)[:1]
-        one = _take(m, small, np.isin(np.arange(n_ode), first)) if first.size else None
-        t_one = (_best_of(lambda b=one, n=name: paths.solve(m, b, n), 1 if ode_cost else N1_REPEAT)
-                 if one is not None else np.nan)
-        rows.append({
-            "path": name, "kind": "auto" if p is None else p.kind.value, "cost": None if p is None else p.cost,
-            "declared_accuracy": None if p is None else p.accuracy,
-            "reference": (referee or "ode") if ref_name == "ode" else ref_name,
-            "reference_method": tight_label if ref_name == "ode" else f"{exact_name} path",
-            "scenes_timed": count, "seconds_per_scene": t / max(count, 1), "scenes_per_second": count / t,
-            "predicate_seconds_per_scene": t_pred / max(count, 1), "n1_seconds": t_one,
-            "floor_fraction": floor / t, "where_exact": _stats(err[exact]) | {"scenes": int(exact.sum())},
-            "all_scenes": _stats(err) | {"scenes": int(err.size)},
-        })
-    if progress:
-        progress(f"{m.name}: ODE solvers × tolerances")
-    few = np.arange(int(np.size(small[paths.ONES]))) < GRID_SCENES  # the grid is 12 integrations per scene
-    grid = ode_grid(m, _take(m, small, few), _take_res(refs["exact"], few), solvers, rtols)
-    return {"model": m.name, "section": m.section, "paths": rows, "ode_grid": grid,
+        rows.append(_path_row(m, name, small, big, tight, "ode", tight_label, repeat))
+    return {"model": m.name, "section": m.section, "paths": rows, "ode_grid": ode_part["grid"],
             "pareto": _pareto(m, small, auto_small, rows, tight)}
 
 
@@ -307,10 +412,15 @@ def selection(models: Sequence[str], quick: bool) -> tuple[list[str], bool]:
     return chosen, FITS in models or (not models and not quick)
 
 
-def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str], None] | None = None) -> dict:
+def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str], None] | None = None,
+        jobs: int | None = None, scheduler: str | None = None) -> dict:
     """The benchmark report (``bench.json``): per model its paths and Pareto verdict, and the machine. ``fit`` among
     ``models`` (alone: ``resal bench fit``) times ``resal fit`` on large files (``fitbench``): at 100 rows with
-    ``quick``, 1000 and 10 000 rows otherwise; the full benchmark (no names, not quick) includes it."""
+    ``quick``, 1000 and 10 000 rows otherwise; the full benchmark (no names, not quick) includes it.
+
+    The ODE part (ODE paths, referees, solver grids: ``ode_parts``) runs first on ``jobs`` processes (None: one per
+    core; 1: this one) or on the Dask cluster at ``scheduler``; its times are per worker (``ode_sweeps``: the
+    throughput per core). Everything else is timed afterwards in this process alone, nothing running beside it."""
     cfg = QUICK if quick else FULL
     chosen, fits = selection(models, quick)
     unknown = [x for x in chosen if x not in registry.MODELS]
@@ -319,6 +429,7 @@ def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str
                        f"or {FITS})")
     import scipy
 
+    parts, how = ode_parts(chosen, cfg, jobs, scheduler, progress) if chosen else ({}, None)
     report: dict[str, Any] = {
         "quick": quick, "config": cfg, "timer": "time.perf_counter, minimum over repeats after a warm-up",
         "machine": {"python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__,
@@ -326,7 +437,10 @@ def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str
         "reference": f"the ODE path with {REFERENCE[0]} at rtol {REFERENCE[1]:g} (closed forms and "
                      "approximations); the exact path (the ODE itself and its solver grid)",
         "models": [model_rows(registry.MODELS[x], cfg["n_fast"], cfg["n_ode"], cfg["repeat"],
-                              progress=progress, solvers=cfg["solvers"], rtols=cfg["rtols"]) for x in chosen]}
+                              progress=progress, solvers=cfg["solvers"], rtols=cfg["rtols"], ode_part=parts[x])
+                   for x in chosen]}
+    if how is not None:
+        report["ode_sweeps"] = how
     if "direct-impact" in chosen:
         report["direct_impact_ode_tolerances"] = direct_impact_curve(cfg["n_ode"], cfg["repeat"])
     if chosen:
@@ -386,7 +500,7 @@ def _work_precision_figure(plt: Any, mod: dict, rtols: Sequence[float]) -> Any:
 
     from matplotlib.lines import Line2D
 
-    from .report import _FIG_W, FONT, minus_signs, subscripts
+    from .report import _FIG_W, FONT, minus_signs, plain_log_labels, subscripts
 
     fig, ax = plt.subplots(figsize=(_FIG_W, 5.8), layout="constrained")
     solvers = list(dict.fromkeys(g["solver"] for g in mod["ode_grid"]))
@@ -420,12 +534,16 @@ def _work_precision_figure(plt: Any, mod: dict, rtols: Sequence[float]) -> Any:
     ax.set_ylabel("seconds per scene", fontsize=FONT["label"])
     ax.set_title(f"Work-precision: {mod['model']}", fontsize=FONT["title"])
     ax.tick_params(labelsize=FONT["tick"], which="both")
-    ax.grid(alpha=0.3, which="both")
+    # decades only: the minor ticks of axes over ten or more decades drew nothing a reader uses, and they were
+    # most of the figure's drawing time (each tick an artist, measured for the layout at each save)
+    ax.minorticks_off()
+    ax.grid(alpha=0.3, which="major")
     handles, labels = ax.get_legend_handles_labels()
     if beyond:  # the ring's key: a handle of its own, not a line of the axes
         handles.append(Line2D([], [], linestyle="none", marker="o", mfc="none", mew=1.5, ms=9, color="0.3"))
         labels.append("over all scenes, where larger")
     fig.legend(handles, labels, loc="outside lower center", ncols=2, fontsize=FONT["legend"], frameon=False)
+    plain_log_labels(fig)
     return fig
 
 

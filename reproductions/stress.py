@@ -33,7 +33,7 @@ import json
 import math
 import time
 import types
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from enum import Enum
 from pathlib import Path
@@ -43,7 +43,7 @@ import numpy as np
 
 from .mechanics import budget, impact, paths, registry
 
-__all__ = ["Check", "run", "sweep", "to_markdown", "wide_scenes", "write"]
+__all__ = ["TIMINGS", "Check", "run", "sweep", "to_markdown", "wide_scenes", "without_timings", "write"]
 
 TOL = 1e-9  # §I sweep: momentum, energy law and gain of vis viva, relative
 MOMENTUM_RTOL = 1e-12  # relative to the sum of the magnitudes of the momentum terms
@@ -290,6 +290,39 @@ class _Row:
                 v = np.asarray(s[p.name], dtype=float)[finding]
                 lo, hi = f["region"].get(p.name, (math.inf, -math.inf))
                 f["region"][p.name] = (min(lo, float(v.min())), max(hi, float(v.max())))
+
+    def __getstate__(self) -> dict[str, Any]:
+        """A chunk's row crosses to the parent without its model (whose paths hold lambdas); ``merge`` reads only
+        the counts."""
+        return {k: v for k, v in self.__dict__.items() if k != "m"} | {"m": None}
+
+    def merge(self, other: _Row) -> None:
+        """Add a later chunk's row: the same counts, worst scenes and findings as one row that had seen both
+        chunks in order (a later scene replaces an earlier one only if strictly worse, as in ``note``)."""
+        self.scenes += other.scenes
+        self.boundary_pairs += other.boundary_pairs
+        for k, v in other.failures.items():
+            self.failures[k] = self.failures.get(k, 0) + v
+        for k, x in other.explained.items():
+            mine = self.explained.setdefault(k, {"scenes": 0, "max": 0.0, "reason": x["reason"], "replay": ""})
+            mine["scenes"] += x["scenes"]
+            if x["max"] > mine["max"]:
+                mine["max"], mine["replay"] = x["max"], x["replay"]
+        for k, w in other.worst.items():
+            if k not in self.worst or w["value"] > self.worst[k]["value"]:
+                self.worst[k] = w
+        for k, v in other.margin.items():
+            self.margin[k] = max(self.margin.get(k, 0.0), v)
+        if other.closest and other.closest["ratio"] > self.closest.get("ratio", 0.0):
+            self.closest = other.closest
+        for k, f in other.findings.items():
+            mine = self.findings.setdefault(k, {"scenes": 0, "max": 0.0, "region": {}, "replay": ""})
+            mine["scenes"] += f["scenes"]
+            if f["max"] > mine["max"]:
+                mine["max"], mine["replay"] = f["max"], f["replay"]
+            for name, (a, b) in f["region"].items():
+                lo, hi = mine["region"].get(name, (math.inf, -math.inf))
+                mine["region"][name] = (min(lo, a), max(hi, b))
 
     def as_dict(self) -> dict[str, Any]:
         return {"model": self.m.name, "path": self.name, "kind": self.kind, "scenes": self.scenes,
@@ -569,88 +602,243 @@ def _take_result(res: Any, sel: np.ndarray) -> Any:
     return out
 
 
-def stress_model(m: paths.Model, scenes: int, ode_scenes: int, pairs: int, seed: int,
-                 progress: Callable[[int], None] | None = None,
-                 referee_scenes: int = DEFAULT_REFEREE_SCENES) -> dict[str, Any]:
-    """Every path of ``m`` (and ``auto``) over ``scenes`` widened scenes, the ODE over ``ode_scenes``, the referee
-    over ``referee_scenes``."""
-    rng = np.random.default_rng([seed, sum(m.name.encode())])
+# ---- the sweep in chunks -----------------------------------------------------------------------------------------
+# A model's sweep is cut into tasks that any process may run (``sweep``): the chunks of the closed-form sweep (CHUNK
+# scenes each, the last one shorter; chunk c draws from its own stream, ``sweep.chunk_seed(seed, FAST, c)``), then
+# the slow paths (ODE, referee) over slices of SLOW_CHUNK scenes of their own pool (drawn from the stream
+# ``chunk_seed(seed, SLOW)``). The parent plans the chunks (it draws each one to count the scenes that every path
+# handles, so that a path runs on exactly ``scenes`` of them) and merges the rows in chunk order: the report is the
+# same on one process, on a pool of any size and on a Dask cluster. Only its timing fields differ (``TIMINGS``).
+FAST, SLOW = 0, 1  # the spawn keys of the two kinds of chunk
+SLOW_CHUNK = 25  # scenes of the ODE and referee sweeps per task: 40 tasks for the default referee sweep
+# the report's fields that are timings (or say what ran the sweep): everything else is the same whoever runs it
+TIMINGS = {"report": ("execution",), "model": ("seconds", "throughput")}
+
+
+def _model_key(m: paths.Model) -> int:
+    return sum(m.name.encode())
+
+
+def _chunk_rng(m: paths.Model, seed: int, *key: int) -> np.random.Generator:
+    from .sweep import chunk_seed
+
+    return np.random.default_rng(chunk_seed([seed, _model_key(m)], *key))
+
+
+def _model_of(ref: str | paths.Model) -> paths.Model:
+    return registry.MODELS[ref] if isinstance(ref, str) else ref
+
+
+def _fast_rows(m: paths.Model) -> dict[str, _Row]:
     rows = {p.name: _Row(m, p.name, p.kind.value) for p in m.paths if p.kind not in SLOW_KINDS}
     rows["auto"] = _Row(m, "auto", "auto")
-    drawn_total = done = rounds = 0
-    t0 = time.perf_counter()
-    ode_pool: dict[str, np.ndarray] | None = None
-    # a path that handles only part of the scenes (cushion's elementary one) gets more chunks until it too has run
-    # ``scenes`` of them; MAX_ROUNDS bounds the draws for one that would handle almost none
-    while min(r.scenes for r in rows.values()) < scenes and rounds < MAX_ROUNDS * max(1, scenes // CHUNK):
-        rounds += 1
-        k = min(CHUNK, max(scenes - done, CHUNK if done >= scenes else 1))
-        s, drawn = wide_scenes(m, rng, k)
-        drawn_total += drawn
-        if ode_pool is None:
-            ode_pool = _take(m, s, slice(0, max(ode_scenes, referee_scenes)))
-        for name, row in rows.items():
-            if row.scenes >= scenes:
-                continue
-            p = None if name == "auto" else m.path(name)
-            sel = np.ones(k, dtype=bool) if p is None else np.asarray(p.handles(s), dtype=bool)
-            sel &= np.cumsum(sel) <= scenes - row.scenes  # no more than the count asked for
-            sub = _take(m, s, sel)
-            nsub = int(sel.sum())
-            if nsub == 0:
-                continue
-            first = row.scenes == 0
-            r, err, bad = _solve(m, sub, name)
-            row.scenes += nsub
-            if r is None:
-                row.failures[Check.SOLVER_ERROR.value] = row.failures.get(Check.SOLVER_ERROR.value, 0) + 1
-                row.worst.setdefault(Check.SOLVER_ERROR.value, {"value": 1.0, "tolerance": 0.5, "message": err,
-                                                                "replay": replay(m, sub, int(bad or 0), name)})
-                continue
-            exact_kind = p is None or p.kind in EXACT_KINDS
-            here = np.ones(nsub, dtype=bool) if exact_kind else np.asarray(p.exact_when(sub), dtype=bool)
-            _invariants(row, m, sub, r, here, exact_kind)
-            if m.impact is not None and first and "epsp" in sub:  # where the ratio is e: ε′ = ε
-                eq = m.scene({**{k: v for k, v in sub.items() if k != paths.ONES}, "epsp": sub["eps"]})
-                if p is not None and not exact_kind:
-                    ok_eq = np.asarray(p.handles(eq), dtype=bool)
-                    eq = _take(m, eq, ok_eq)
-                if np.size(eq[paths.ONES]):
-                    req, _, _ = _solve(m, eq, name)
-                    if req is not None:
-                        n_eq = int(np.size(eq[paths.ONES]))
-                        ok_here = (np.ones(n_eq, dtype=bool) if exact_kind
-                                   else np.asarray(p.exact_when(eq), dtype=bool))
-                        fin = np.ones(n_eq, dtype=bool)
-                        for o in _outputs(m, req, n_eq):
-                            fin &= np.all(np.isfinite(o), axis=1)
-                        _impact_invariants(row, m, eq, req, ok_here, fin, INVARIANT_RTOL)
-            if m.elastic is not None and first:
-                _elastic(row, m, sub, name, exact_kind)
-            if exact_kind and first:  # one chunk of boundary pairs per path
-                _boundaries(row, m, sub, r, name, rng, pairs)
-        step = min(k, max(scenes - done, 0))
-        done += k
-        if progress and step:
-            progress(step)
-    assert ode_pool is not None
-    slow_rows: list[_Row] = []
+    return rows
+
+
+def _fast_chunk(m: paths.Model, seed: int, index: int, k: int, plan: dict[str, tuple[int, bool]],
+                pairs: int) -> dict[str, _Row]:
+    """Chunk ``index`` of the closed-form sweep: ``k`` scenes drawn from its own stream; each path of ``plan`` on
+    the first ``take`` of the scenes it handles (its ε′ = ε copy, elastic limit and boundary pairs where ``first``:
+    the path's first chunk)."""
+    rng = _chunk_rng(m, seed, FAST, index)
+    s, _ = wide_scenes(m, rng, k)
+    rows = {name: row for name, row in _fast_rows(m).items() if name in plan}
+    for name, row in rows.items():
+        take, first = plan[name]
+        p = None if name == "auto" else m.path(name)
+        sel = np.ones(k, dtype=bool) if p is None else np.asarray(p.handles(s), dtype=bool)
+        sel &= np.cumsum(sel) <= take  # no more than the count asked for
+        sub = _take(m, s, sel)
+        nsub = int(sel.sum())
+        r, err, bad = _solve(m, sub, name)
+        row.scenes += nsub
+        if r is None:
+            row.failures[Check.SOLVER_ERROR.value] = row.failures.get(Check.SOLVER_ERROR.value, 0) + 1
+            row.worst.setdefault(Check.SOLVER_ERROR.value, {"value": 1.0, "tolerance": 0.5, "message": err,
+                                                            "replay": replay(m, sub, int(bad or 0), name)})
+            continue
+        exact_kind = p is None or p.kind in EXACT_KINDS
+        here = np.ones(nsub, dtype=bool) if exact_kind else np.asarray(p.exact_when(sub), dtype=bool)
+        _invariants(row, m, sub, r, here, exact_kind)
+        if m.impact is not None and first and "epsp" in sub:  # where the ratio is e: ε′ = ε
+            eq = m.scene({**{key: v for key, v in sub.items() if key != paths.ONES}, "epsp": sub["eps"]})
+            if p is not None and not exact_kind:
+                eq = _take(m, eq, np.asarray(p.handles(eq), dtype=bool))
+            if np.size(eq[paths.ONES]):
+                req, _, _ = _solve(m, eq, name)
+                if req is not None:
+                    n_eq = int(np.size(eq[paths.ONES]))
+                    ok_here = (np.ones(n_eq, dtype=bool) if exact_kind
+                               else np.asarray(p.exact_when(eq), dtype=bool))
+                    fin = np.ones(n_eq, dtype=bool)
+                    for o in _outputs(m, req, n_eq):
+                        fin &= np.all(np.isfinite(o), axis=1)
+                    _impact_invariants(row, m, eq, req, ok_here, fin, INVARIANT_RTOL)
+        if m.elastic is not None and first:
+            _elastic(row, m, sub, name, exact_kind)
+        if exact_kind and first:  # one chunk of boundary pairs per path
+            _boundaries(row, m, sub, r, name, rng, pairs)
+    return rows
+
+
+def _slow_paths(m: paths.Model) -> list[paths.Path]:
+    return sorted((q for q in m.paths if q.kind in SLOW_KINDS), key=lambda q: q.kind is paths.Kind.REFEREE)
+
+
+def _slow_chunk(m: paths.Model, s: dict, start: int, ode_scenes: int,
+                referee_scenes: int) -> tuple[dict[str, _Row], dict[str, tuple[int, float, float]]]:
+    """Scenes ``start`` … of the slow paths' pool (``s``: this slice of it): each ODE path on those below
+    ``ode_scenes``, each referee on those below ``referee_scenes`` and every exact path against it there. Returns
+    the rows (the slow paths' own, and the fast paths' referee checks) and, per slow path, its scenes and the
+    seconds they took here: on the clock, and of this process's CPU (a busy machine slows the first, not the
+    second)."""
+    n = int(np.shape(s[paths.ONES])[0])
+    rows = _fast_rows(m)
+    slow_rows: dict[str, _Row] = {}
     slow_results: dict[str, list[Any]] = {}
-    for p in sorted((q for q in m.paths if q.kind in SLOW_KINDS), key=lambda q: q.kind is paths.Kind.REFEREE):
-        k = referee_scenes if p.kind is paths.Kind.REFEREE else ode_scenes
+    seconds: dict[str, tuple[int, float, float]] = {}
+    for p in _slow_paths(m):
+        k = min(max((referee_scenes if p.kind is paths.Kind.REFEREE else ode_scenes) - start, 0), n)
+        if k == 0:
+            continue
+        t0, c0 = time.perf_counter(), time.process_time()
         srow = _Row(m, p.name, p.kind.value)
-        results = _slow(srow, m, _take(m, ode_pool, slice(0, k)), p.name)
+        sub = _take(m, s, slice(0, k))
+        results = _slow(srow, m, sub, p.name)
         if p.kind is paths.Kind.REFEREE:
-            _against_referee({**rows, **{r.name: r for r in slow_rows}}, m, _take(m, ode_pool, slice(0, k)),
-                             results, p.accuracy, slow_results)
+            _against_referee({**rows, **slow_rows}, m, sub, results, p.accuracy, slow_results)
         else:
             slow_results[p.name] = results
-        slow_rows.append(srow)
-    if progress:
-        progress(0)
-    out = [r.as_dict() for r in rows.values()] + [r.as_dict() for r in slow_rows]
-    return {"model": m.name, "section": m.section, "drawn": drawn_total, "admissible": scenes,
-            "seconds": round(time.perf_counter() - t0, 1), "rows": out}
+        slow_rows[p.name] = srow
+        seconds[p.name] = (k, time.perf_counter() - t0, time.process_time() - c0)
+    return {**rows, **slow_rows}, seconds
+
+
+def _task(task: tuple) -> tuple:
+    """One chunk, in whichever process runs it: ``("fast", model, seed, index, k, plan, pairs)`` or ``("slow",
+    model, scenes, start, ode_scenes, referee_scenes)``; the model by its registry name (or the model itself, run in
+    this process)."""
+    kind, ref, *args = task
+    m = _model_of(ref)
+    if kind == "fast":
+        return kind, _fast_chunk(m, *args), {}
+    rows, seconds = _slow_chunk(m, *args)
+    return kind, rows, seconds
+
+
+class _Plan:
+    """The tasks of one model, made as the executor asks for them (the parent draws chunk c+1 while the workers
+    run chunk c), and what the parent learns on the way: the scenes drawn, the steps of the progress bar."""
+
+    def __init__(self, m: paths.Model, scenes: int, ode_scenes: int, pairs: int, seed: int,
+                 referee_scenes: int) -> None:
+        self.m, self.scenes, self.ode_scenes, self.pairs, self.seed = m, scenes, ode_scenes, pairs, seed
+        self.referee_scenes = referee_scenes
+        self.ref: str | paths.Model = m.name if registry.MODELS.get(m.name) is m else m
+        self.drawn = 0
+        self.steps: list[int] = []  # per fast chunk: scenes it advances the progress bar by
+
+    def tasks(self) -> Iterator[tuple]:
+        m, scenes = self.m, self.scenes
+        counts = {name: 0 for name in _fast_rows(m)}
+        done = rounds = 0
+        # a path that handles only part of the scenes (cushion's elementary one) gets more chunks until it too has
+        # run ``scenes`` of them; MAX_ROUNDS bounds the draws for one that would handle almost none
+        while min(counts.values()) < scenes and rounds < MAX_ROUNDS * max(1, scenes // CHUNK):
+            k = min(CHUNK, max(scenes - done, CHUNK if done >= scenes else 1))
+            s, drawn = wide_scenes(m, _chunk_rng(m, self.seed, FAST, rounds), k)
+            self.drawn += drawn
+            plan: dict[str, tuple[int, bool]] = {}
+            for name, have in counts.items():
+                if have >= scenes:
+                    continue
+                handled = k if name == "auto" else int(np.count_nonzero(m.path(name).handles(s)))
+                take = min(handled, scenes - have)
+                if take:
+                    plan[name] = (take, have == 0)
+                    counts[name] += take
+            self.steps.append(min(k, max(scenes - done, 0)))
+            yield ("fast", self.ref, self.seed, rounds, k, plan, self.pairs)
+            rounds += 1
+            done += k
+        n_slow = max(self.ode_scenes, self.referee_scenes)
+        pool, _ = wide_scenes(m, _chunk_rng(m, self.seed, SLOW), n_slow)
+        for a, b in _chunks(n_slow, SLOW_CHUNK):
+            yield ("slow", self.ref, _take(m, pool, slice(a, b)), a, self.ode_scenes, self.referee_scenes)
+
+
+def _chunks(total: int, size: int) -> list[tuple[int, int]]:
+    from .sweep import chunks
+
+    return chunks(total, size)
+
+
+def _assemble(plan: _Plan, results: list[tuple[tuple, float]]) -> dict[str, Any]:
+    """One model's report from its chunks' results (each with the seconds it took), merged in chunk order."""
+    m = plan.m
+    rows = _fast_rows(m)
+    slow_rows = {p.name: _Row(m, p.name, p.kind.value) for p in _slow_paths(m)}
+    spent: dict[str, list[float]] = {p.name: [0, 0.0, 0.0] for p in _slow_paths(m)}
+    total = 0.0
+    for (_, part, seconds), took in results:
+        total += took
+        for name, r in part.items():
+            (rows if name in rows else slow_rows)[name].merge(r)
+        for name, (k, sec, cpu) in seconds.items():
+            spent[name][0] += k
+            spent[name][1] += sec
+            spent[name][2] += cpu
+    throughput = {}
+    for p in _slow_paths(m):
+        k, sec, cpu = spent[p.name]
+        throughput[p.name] = {"kind": p.kind.value, "scenes": int(k), "seconds": round(sec, 3),
+                              "cpu_seconds": round(cpu, 3),
+                              "scenes_per_second_per_worker": round(k / sec, 3) if sec > 0 else None,
+                              "scenes_per_cpu_second": round(k / cpu, 3) if cpu > 0 else None}
+    out = [r.as_dict() for r in rows.values()] + [r.as_dict() for r in slow_rows.values()]
+    return {"model": m.name, "section": m.section, "drawn": plan.drawn, "admissible": plan.scenes,
+            "seconds": round(total, 1), "throughput": throughput, "rows": out}
+
+
+def _sweep(plans: Sequence[_Plan], ex: Any, progress: Callable[[str, int], None] | None) -> list[dict[str, Any]]:
+    """Every plan's tasks on the executor ``ex``, one stream (a model's slow tasks overlap the next model's fast
+    ones); the reports in the plans' order."""
+    owner: list[tuple[int, int]] = []  # per task: its plan, and its fast chunk's index (or -1)
+
+    def items() -> Iterator[tuple]:
+        for i, plan in enumerate(plans):
+            for t in plan.tasks():
+                owner.append((i, t[3] if t[0] == "fast" else -1))
+                yield t
+
+    def done(index: int, result: tuple, seconds: float) -> None:
+        if progress:
+            i, chunk = owner[index]
+            progress(plans[i].m.name, plans[i].steps[chunk] if chunk >= 0 else 0)
+
+    took: dict[int, float] = {}
+
+    def keep(index: int, result: tuple, seconds: float) -> None:
+        took[index] = seconds
+        done(index, result, seconds)
+
+    results = ex.map(_task, items(), keep)
+    per: list[list[tuple[tuple, float]]] = [[] for _ in plans]
+    for index, r in enumerate(results):
+        per[owner[index][0]].append((r, took[index]))
+    return [_assemble(plan, per[i]) for i, plan in enumerate(plans)]
+
+
+def stress_model(m: paths.Model, scenes: int, ode_scenes: int, pairs: int, seed: int,
+                 progress: Callable[[int], None] | None = None,
+                 referee_scenes: int = DEFAULT_REFEREE_SCENES, jobs: int = 1) -> dict[str, Any]:
+    """Every path of ``m`` (and ``auto``) over ``scenes`` widened scenes, the ODE over ``ode_scenes``, the referee
+    over ``referee_scenes``; on ``jobs`` processes (1: this one; more needs a model of the registry)."""
+    from .sweep import executor
+
+    plan = _Plan(m, scenes, ode_scenes, pairs, seed, referee_scenes)
+    with executor(jobs if isinstance(plan.ref, str) else 1) as ex:
+        return _sweep([plan], ex, None if progress is None else (lambda _, k: progress(k)))[0]
 
 
 # ---- §I sweep --------------------------------------------------------------------------------------------------
@@ -683,15 +871,21 @@ def sweep_ok(res: dict[str, float]) -> bool:
 # ---- the whole run ---------------------------------------------------------------------------------------------
 def run(models: Sequence[str] = (), scenes: int = DEFAULT_SCENES, ode_scenes: int = DEFAULT_ODE_SCENES,
         pairs: int = DEFAULT_PAIRS, seed: int = 12, progress: Callable[[str, int], None] | None = None,
-        referee_scenes: int = DEFAULT_REFEREE_SCENES) -> dict:
-    """The stress report of the named models (default: all); ``progress(model, scenes_done)``."""
+        referee_scenes: int = DEFAULT_REFEREE_SCENES, jobs: int | None = None, scheduler: str | None = None) -> dict:
+    """The stress report of the named models (default: all); ``progress(model, scenes_done)``. The chunks run on
+    ``jobs`` processes (None: one per core; 1: this process) or, given ``scheduler`` (``tcp://host:port``), on that
+    Dask cluster (``sweep.executor``); the report is the same whichever runs them, but for its timing fields
+    (``TIMINGS``, ``without_timings``)."""
+    from .sweep import executor
+
     names = list(models) or list(registry.MODELS)
-    out = []
-    for name in names:
-        m = registry.MODELS[name]
-        out.append(stress_model(m, scenes, ode_scenes, pairs, seed,
-                                None if progress is None else (lambda k, name=name: progress(name, k)),
-                                referee_scenes=referee_scenes))
+    plans = [_Plan(registry.MODELS[name], scenes, ode_scenes, pairs, seed, referee_scenes) for name in names]
+    t0 = time.perf_counter()
+    with executor(jobs, scheduler) as ex:
+        out = _sweep(plans, ex, progress)
+        execution = ex.describe()
+    execution["wall_seconds"] = round(time.perf_counter() - t0, 1)
+    execution["throughput"] = _throughput(out, execution["workers"], execution["wall_seconds"])
     failures = sum(sum(r["failures"].values()) for mod in out for r in mod["rows"])
     eq7 = sweep()
     return {"seed": seed, "scenes_per_path": scenes, "ode_scenes": ode_scenes, "referee_scenes": referee_scenes,
@@ -703,11 +897,51 @@ def run(models: Sequence[str] = (), scenes: int = DEFAULT_SCENES, ode_scenes: in
                            "elastic-limit": ELASTIC_RTOL,
                            "referee-disagrees": "the referee's declared accuracy"},
             "models": out, "eq7_sweep": eq7, "failures": failures + (0 if sweep_ok(eq7) else 1),
-            "verdict": "stable" if failures == 0 and sweep_ok(eq7) else "UNSTABLE"}
+            "verdict": "stable" if failures == 0 and sweep_ok(eq7) else "UNSTABLE", "execution": execution}
+
+
+def _throughput(models: list[dict], workers: int, wall: float) -> dict[str, Any]:
+    """The slow sweeps' throughput per core: scenes over the seconds they took in the workers that ran them (each
+    worker one core), per kind (ODE, referee) over every model; and per second of the workers' CPU (what a core
+    gives when nothing else competes for it)."""
+    out: dict[str, Any] = {}
+    for kind in (paths.Kind.ODE.value, paths.Kind.REFEREE.value):
+        k = sum(t["scenes"] for mod in models for t in mod["throughput"].values() if t["kind"] == kind)
+        sec = sum(t["seconds"] for mod in models for t in mod["throughput"].values() if t["kind"] == kind)
+        cpu = sum(t["cpu_seconds"] for mod in models for t in mod["throughput"].values() if t["kind"] == kind)
+        out[kind] = {"scenes": k, "seconds": round(sec, 3), "cpu_seconds": round(cpu, 3),
+                     "scenes_per_second_per_worker": round(k / sec, 3) if sec > 0 else None,
+                     "scenes_per_cpu_second": round(k / cpu, 3) if cpu > 0 else None}
+    out["workers"] = workers
+    out["wall_seconds"] = wall
+    return out
+
+
+def without_timings(rep: dict) -> dict:
+    """The report without its timing fields (``TIMINGS``: the run's ``execution``, each model's ``seconds`` and
+    ``throughput``): what is the same whichever runs the sweep, on one process, a pool or a Dask cluster."""
+    out = {k: v for k, v in rep.items() if k not in TIMINGS["report"]}
+    out["models"] = [{k: v for k, v in mod.items() if k not in TIMINGS["model"]} for mod in rep["models"]]
+    return out
 
 
 def _g(x: float) -> str:
     return f"{x:.2g}"
+
+
+def _execution_lines(ex: dict | None) -> list[str]:
+    """What ran the sweep and the slow sweeps' throughput per core (timings: they differ from run to run)."""
+    if not ex:
+        return []
+    where = {"in-process": "in one process", "process-pool": f"on a pool of {ex['workers']} processes",
+             "dask": f"on the Dask cluster {ex.get('scheduler', '')} ({ex['workers']} workers)"}[ex["executor"]]
+    per = [f"{kind} {t['scenes_per_second_per_worker']:.3g} scenes/s per worker, {t['scenes_per_cpu_second']:.3g} per "
+           f"CPU second ({t['scenes']:,} scenes, {t['seconds']:.3g} s in the workers)"
+           for kind, t in ex["throughput"].items() if isinstance(t, dict) and t["scenes_per_second_per_worker"]
+           and t["scenes_per_cpu_second"]]
+    return [f"Run {where} in {ex['wall_seconds']:g} s (a timing: it differs from run to run, the rest of the report "
+            f"does not). Throughput per core of the slow sweeps, each scene integrated: {'; '.join(per) or 'none'}.",
+            ""]
 
 
 def to_markdown(rep: dict) -> str:
@@ -719,6 +953,7 @@ def to_markdown(rep: dict) -> str:
              f"plastic-end, normal-ratio and energy-law {INVARIANT_RTOL:g} (of the approach speed, or of the law's "
              f"terms), elastic-limit {ELASTIC_RTOL:g}, every exact path against the referee: the referee's declared "
              "accuracy (or the path's own, if coarser).", "",
+             *_execution_lines(rep.get("execution")),
              "| model | path | kind | scenes | boundary pairs | failures | margin (largest / tolerance) |",
              "|---|---|---|---|---|---|---|"]
     worst, findings, explained = [], [], []

@@ -284,10 +284,10 @@ def bench_once(monkeypatch: pytest.MonkeyPatch) -> None:
 
     real, cache = bench.run, {}
 
-    def cached(models: list[str] = (), quick: bool = False, progress: object = None) -> dict:
-        key = (tuple(models), quick)
+    def cached(models: list[str] = (), quick: bool = False, progress: object = None, **where: object) -> dict:
+        key = (tuple(models), quick)  # where it runs (jobs, scheduler) changes only the timings
         if key not in cache:
-            cache[key] = real(models, quick=quick, progress=progress)
+            cache[key] = real(models, quick=quick, progress=progress, **where)
         return cache[key]
 
     monkeypatch.setattr(bench, "run", cached)
