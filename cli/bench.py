@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
+from rich.text import Text
 
 from cli.app import app
 from cli.common import (
@@ -107,4 +108,10 @@ def bench(
         out_console.print(f"make all (reproduce --all), median of {ma['repeat']}: {ma['cold']['median_wall']:.2f} s "
                           f"recomputing everything, {ma['cached']['median_wall']:.2f} s with nothing changed",
                           highlight=False)
+    if "targets" in rep:
+        from reproductions.targets import terminal_lines
+
+        out_console.print()
+        for ln in terminal_lines(rep["targets"], rep.get("calibration")):
+            out_console.print(Text(ln), highlight=False, soft_wrap=True)
     err_console.print(f"wrote {', '.join(str(p) for p in written[:2])} and {len(written) - 2} figure files")

@@ -456,6 +456,11 @@ def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str
         from . import fitbench
 
         report["fits"] = fitbench.run(fitbench.sizes(quick), progress=progress)
+    from . import targets
+
+    report["calibration"] = targets.calibration()  # alone, after the rest: the machine as the timings found it
+    report["targets"] = [t.as_dict() for t in targets.rows(report)]
+    report["pooltool"] = targets.pooltool_version()
     return report
 
 
@@ -626,6 +631,16 @@ def _write(report: dict, out: Path, figures: Path, plt: Any, write_folder: Calla
         for what in ("cold", "cached"):
             each = ", ".join(f"{r['wall']:.2f}" for r in ma[what]["runs"])
             lines.append(f"| {what} | {ma[what]['median_wall']:.2f} | {ma[what]['median_cpu']:.2f} | {each} |")
+    if "ode_sweeps" in report:
+        sw = report["ode_sweeps"]
+        lines += ["", f"## The ODE part: {sw['executor']}, {sw['workers']} worker(s), {sw['wall_seconds']:.3g} s", "",
+                  "| kind | scenes | seconds of work | scenes/s per worker |", "|---|---|---|---|"]
+        lines += [f"| {kind} | {t['scenes']} | {t['seconds']:.3g} | {t['scenes_per_second_per_worker']:.3g} |"
+                  for kind, t in sw["throughput"].items()]
+    if "targets" in report:
+        from .targets import to_markdown
+
+        lines += ["", *to_markdown(report["targets"], report.get("calibration"), report.get("pooltool"))]
     write_folder(out, {"bench.json": bench_json, "bench.md": "\n".join(lines) + "\n"}, moved=figures)
     return written
 

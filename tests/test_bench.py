@@ -44,6 +44,24 @@ def test_bench_reports_every_model_and_path_with_its_figures(report):
         assert min(r["total"], r["scene"], r["run"], r["assembly"]) > 0 and r["dispatch"] >= 0
 
 
+def test_bench_reports_issue_34s_figures_from_its_own_measurements(report):
+    """Each figure of the targets' table is the number measured elsewhere in the same report (not a second
+    measurement that could disagree with it), and bench.md shows the table and the calibration."""
+    out, rep = report
+    got = {t["what"]: t for t in rep["targets"]}
+    assert got["one scene: cushion-impact"]["now"] == rep["n1"]["cushion-impact"]["total"]
+    assert got["one scene: two balls on the cloth"]["now"] == rep["n1"]["spheres-cloth"]["total"]
+    cloth = next(m for m in rep["models"] if m["model"] == "spheres-cloth")
+    auto = next(r for r in cloth["paths"] if r["path"] == "auto")
+    batch = next(t for w, t in got.items() if w.startswith("§VI cloth: batch"))
+    assert batch["now"] == auto["scenes_per_second"] and batch["met"] == (auto["scenes_per_second"] >= 1e6)
+    assert got["make all, cold (median)"]["now"] is None  # --quick does not time make all
+    assert min(rep["calibration"].values()) > 0
+    md = (out / "bench.md").read_text(encoding="utf-8")
+    assert "## Issue 34's targets, as measured here" in md and "Calibration of this machine" in md
+    assert "## The ODE part:" in md
+
+
 def test_bench_files_get_the_mode_of_the_users_umask(report):
     out, _ = report
     umask = os.umask(0)  # read it: set, then restore at once (the test runs in the main thread)
