@@ -447,7 +447,7 @@ def _spheres_model(on_cloth: bool) -> Model:
     paths = (
         Path(PathCode.EXACT, exact_kind, _spheres("exact", on_cloth), always, 1e-12, 3 if on_cloth else 1,
              "slip decay in closed form (₂F₁), normal impulse from law (6) at a fixed point" if on_cloth else
-             "closed form, sliding or sticking (law (6) as a quadratic)", scalar=not on_cloth),
+             "closed form, sliding or sticking (law (6) as a quadratic)", scalar=True),
         Path(PathCode.RESAL, Kind.AS_PRINTED, _spheres("resal", on_cloth),
              _cloth_resal_exact if on_cloth else _free_resal_exact, 1e-12, 1,
              "§VI eqs (11)-(15), first order in f" if on_cloth else "§V eqs (5), (8), sliding assumed"),

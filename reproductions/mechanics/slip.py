@@ -420,31 +420,86 @@ def slip_decay(phi0: np.ndarray, psi0: np.ndarray, alpha: np.ndarray, beta: np.n
     as numpy floats (``paths.Path.scalar``) with an elementary decay takes ``SlipDecay.at``'s own formulas without
     its arrays and masks (its branches in its order: ψ0 = 0, then φ0 = 0, then α = β); the same numbers."""
     if phi0.__class__ is psi0.__class__ is alpha.__class__ is beta.__class__ is tau.__class__ is np.float64:
-        if not alpha < beta:  # (α < β swaps the roles of φ and ψ, as in ``SlipDecay``)
-            f0, s0, a, b, swap = phi0, psi0, alpha, beta, False
-        else:
-            f0, s0, a, b, swap = psi0, phi0, beta, alpha, True
-        zero = np.float64(0.0)
-        f1: np.ndarray
-        if s0 == 0:
-            f1, s1 = _alone(f0, a, tau), zero
-        elif f0 == 0:
-            f1, s1 = zero, _alone(s0, b, tau)
-        elif a == b:
-            f1, s1 = _together(f0, s0, a, tau)
-        else:  # the slip turns: ``SlipDecay`` and ``SlipDecay.at`` for one scene (x = U^β from 1, ``_solve_x``)
-            c, e2, r2, scale = _general(f0, s0, a - b, b)
-            series = _class_scalars(float(c))  # (``_series_of``: one c, its own class)
-            total = scale * _F(None, -r2, series)
-            x = u = np.float64(1.0 if tau <= 0 else 0.0)
-            if tau < total and tau > 0:
-                x, _, u = _solve_x_one(total - tau, total, e2, r2, scale, series)
-            f1, s1 = f0 * x * np.sqrt(u), s0 * x
-        return (s1, f1) if swap else (f1, s1)
+        one = _DecayOne(phi0, psi0, alpha, beta)
+        if one.kind != _TURNS:
+            return one.elementary(tau)
+        # the slip turns: ``SlipDecay.at`` for one scene (x = U^β from 1, ``_solve_x``)
+        x = u = np.float64(1.0 if tau <= 0 else 0.0)
+        if tau < one.total and tau > 0:
+            x, _, u = _solve_x_one(one.total - tau, one.total, one.e2, one.r2, one.scale, one.series)
+        f1, s1 = one.f0 * x * np.sqrt(u), one.s0 * x
+        return (s1, f1) if one.swap else (f1, s1)
     arrays = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (phi0, psi0, alpha, beta, tau)))
     shape = arrays[0].shape
     f1, s1, _ = SlipDecay(*arrays[:4]).at(arrays[4].ravel(), np.arange(arrays[0].size))
     return f1.reshape(shape), s1.reshape(shape)
+
+
+_ONLY_F, _ONLY_S, _ISO, _TURNS = range(4)  # ``SlipDecay``'s classes of scenes (only_f, only_s, iso, gen)
+
+
+class _DecayOne:
+    """``SlipDecay`` for one scene as numpy floats (``paths.Path.scalar``): the same roles (φ, ψ swapped for
+    α < β), the class of the decay (tested in ``SlipDecay``'s order), and for a turning slip ``_general``'s
+    coefficients, ``_F``'s (``_class_scalars``: one c, its own class, as ``_series_of`` gives it) and H(1)."""
+
+    __slots__ = ("a", "b", "e2", "f0", "kind", "r2", "s0", "scale", "series", "swap", "total")
+
+    def __init__(self, phi0: np.float64, psi0: np.float64, alpha: np.float64, beta: np.float64) -> None:
+        self.swap = bool(alpha < beta)
+        if not self.swap:
+            self.f0, self.s0, self.a, self.b = phi0, psi0, alpha, beta
+        else:
+            self.f0, self.s0, self.a, self.b = psi0, phi0, beta, alpha
+        self.kind = (_ONLY_F if self.s0 == 0 else _ONLY_S if self.f0 == 0 else _ISO if self.a == self.b
+                     else _TURNS)
+        if self.kind == _TURNS:
+            c, self.e2, self.r2, self.scale = _general(self.f0, self.s0, self.a - self.b, self.b)
+            self.series = _class_scalars(float(c))
+            self.total = self.scale * _F(None, -self.r2, self.series)
+
+    def elementary(self, tau: np.float64) -> tuple[np.float64, np.float64]:
+        """``SlipDecay.at`` for an elementary decay (ψ0 = 0, φ0 = 0 or α = β): (|φ1|, |ψ1|)."""
+        zero = np.float64(0.0)
+        if self.kind == _ONLY_F:
+            f1, s1 = _alone(self.f0, self.a, tau), zero
+        elif self.kind == _ONLY_S:
+            f1, s1 = zero, _alone(self.s0, self.b, tau)
+        else:
+            f1, s1 = _together(self.f0, self.s0, self.a, tau)
+        return (s1, f1) if self.swap else (f1, s1)
+
+
+def _walk_start(x0: np.ndarray, h0: np.ndarray, total: np.ndarray, e2: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A walk's start (y = ln x, H, x, u) from x0 and its H h0; a cold start at x = 1, H = H(1) where they are
+    not usable."""
+    ok = np.isfinite(x0) & (x0 > 0) & (h0 > 0)
+    y = pick(ok, np.log(pick(ok, np.minimum(x0, 1.0), 1.0)), 0.0)
+    return y, pick(ok, h0, total), np.exp(y), np.exp(e2 * y)
+
+
+def _walk_slope(x: np.ndarray, u: np.ndarray, h: np.ndarray, r2: np.ndarray, scale: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """ln H and the elasticity E = x H′(x)/H (``_solve_x``) at x."""
+    return np.log(h), x * scale * np.sqrt(1 + r2 * u) / h
+
+
+def _walk_gap(a: np.ndarray, b: np.ndarray, el: np.ndarray) -> np.ndarray:
+    """(a − b)/E: the Newton step in y = ln x for a = ln H, b = ln target, and the step left for the opposite."""
+    return (a - b) / el
+
+
+def _walk_move(y: np.ndarray, step: np.ndarray, e2: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """y, x and u after a step (x ≤ 1)."""
+    y = np.minimum(y - step, 0.0)
+    return y, np.exp(y), np.exp(e2 * y)
+
+
+def _walk_slip(f0: np.ndarray, s0: np.ndarray, x: np.ndarray, u: np.ndarray, e2: np.ndarray, dy: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """(|φ|, |ψ|) at x, corrected to first order for the step left dy (φ ∝ x^(α/β))."""
+    return f0 * x * np.sqrt(u) * (1 + (1 + 0.5 * e2) * dy), s0 * x * (1 + dy)
 
 
 class SlipWalk:
@@ -459,18 +514,14 @@ class SlipWalk:
         self.f0, self.s0 = dec.f0[idx], dec.s0[idx]
         self.swap = dec.swap[idx] if dec.swapped else None
         self.series = _take(dec.series, idx) if dec.series is not None else None
-        ok = np.isfinite(x0) & (x0 > 0) & (h0 > 0)  # else a cold start at x = 1, H = H(1)
-        self.y = np.where(ok, np.log(np.where(ok, np.minimum(x0, 1.0), 1.0)), 0.0)
-        self.h = np.where(ok, h0, self.total)
-        self.x, self.u = np.exp(self.y), np.exp(self.e2 * self.y)
+        self.y, self.h, self.x, self.u = _walk_start(x0, h0, self.total, self.e2)
         self.last = np.full(self.y.shape, np.inf)
         self._slope()
 
     def _slope(self) -> None:
         """ln H and the elasticity E = x H′(x)/H (``_solve_x``) at the current x."""
         with np.errstate(divide="ignore", invalid="ignore"):
-            self.lnh = np.log(self.h)
-            self.el = self.x * self.scale * np.sqrt(1 + self.r2 * self.u) / self.h
+            self.lnh, self.el = _walk_slope(self.x, self.u, self.h, self.r2, self.scale)
 
     def keep(self, i: np.ndarray) -> None:
         """Only the walks ``i`` go on."""
@@ -495,24 +546,21 @@ class SlipWalk:
             self._slope()
         with np.errstate(divide="ignore", invalid="ignore"):
             lnt = np.log(target)
-            step = (self.lnh - lnt) / self.el
+            step = _walk_gap(self.lnh, lnt, self.el)
             if stop.any():
                 step[stop] = 0.0
-            y = np.minimum(self.y - step, 0.0)
-            self.y, self.x, self.u = y, np.exp(y), np.exp(self.e2 * y)
+            self.y, self.x, self.u = _walk_move(self.y, step, self.e2)
             self.h = _H_of(self.x, self.u, self.r2, self.scale, self.series)  # type: ignore[arg-type]
             if stop.any():
                 self.x[stop], self.u[stop], self.h[stop] = 0.0, 0.0, 0.0
             self._slope()
             size = np.abs(step)
-            settled = (stop | (size <= NEWTON_RTOL) | (np.abs(self.h - target) <= NEWTON_RTOL * self.total)
-                       | ((size <= NEWTON_FLOOR) & (size >= 0.5 * self.last)))
+            settled = stop | _solved(size, self.h, target, self.total, self.last)
             self.last = size
-            dy = (lnt - self.lnh) / self.el  # the step left: −ρ/E
+            dy = _walk_gap(lnt, self.lnh, self.el)  # the step left: −ρ/E
             if stop.any():
                 dy[stop] = 0.0
-            psi = self.s0 * self.x * (1 + dy)
-            phi = self.f0 * self.x * np.sqrt(self.u) * (1 + (1 + 0.5 * self.e2) * dy)  # φ ∝ x^(α/β)
+            phi, psi = _walk_slip(self.f0, self.s0, self.x, self.u, self.e2, dy)
         if self.swap is None:
             return phi, psi, settled
         return np.where(self.swap, psi, phi), np.where(self.swap, phi, psi), settled
@@ -539,3 +587,61 @@ class SlipWalk:
             raise ArithmeticError(f"slip decay: Newton did not converge in {NEWTON_MAXITER} steps for "
                                   f"{ix.size} scene(s)")
         return phi, psi, x, h
+
+
+class _WalkOne:
+    """``SlipWalk`` for one scene with a turning slip as numpy floats (``paths.Path.scalar``): the same formulas
+    (``_walk_start``, ``_walk_slope``, ``_walk_gap``, ``_walk_move``, ``_H_of``, ``_solved``, ``_walk_slip``), its
+    masks as branches. ``dec``: the scene's ``_DecayOne``; ``x0``, ``h0`` as for ``SlipWalk``."""
+
+    __slots__ = ("dec", "el", "h", "last", "lnh", "u", "x", "y")
+
+    def __init__(self, dec: _DecayOne, x0: np.float64, h0: np.float64) -> None:
+        self.dec = dec
+        self.y, self.h, self.x, self.u = _walk_start(x0, h0, dec.total, dec.e2)
+        self.last = np.float64(np.inf)
+        self._slope()
+
+    def _slope(self) -> None:
+        d = self.dec
+        if self.h > 0:
+            self.lnh, self.el = _walk_slope(self.x, self.u, self.h, d.r2, d.scale)
+        else:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                self.lnh, self.el = _walk_slope(self.x, self.u, self.h, d.r2, d.scale)
+
+    def advance(self, tau: np.float64) -> tuple[np.float64, np.float64, bool]:
+        """``SlipWalk.advance`` for the one scene."""
+        d = self.dec
+        target = d.total - tau
+        stop = not target > 0
+        if not stop and not self.h > 0:  # stopped before, or H underflowed: start again at x = 1
+            self.y, self.x, self.u, self.h = np.float64(0.0), np.float64(1.0), np.float64(1.0), d.total
+            self.last = np.float64(np.inf)
+            self._slope()
+        if stop:  # the slip stops: no step, x = 0
+            zero = np.float64(0.0)
+            self.y = _walk_move(self.y, zero, d.e2)[0]
+            self.x = self.u = self.h = zero
+            self._slope()
+            self.last, settled, dy = zero, True, zero
+        else:
+            lnt = np.log(target)
+            step = _walk_gap(self.lnh, lnt, self.el)
+            self.y, self.x, self.u = _walk_move(self.y, step, d.e2)
+            self.h = _H_of(self.x, self.u, d.r2, d.scale, d.series)
+            self._slope()
+            size = np.abs(step)
+            settled = bool(_solved(size, self.h, target, d.total, self.last))
+            self.last = size
+            dy = _walk_gap(lnt, self.lnh, self.el)
+        phi, psi = _walk_slip(d.f0, d.s0, self.x, self.u, d.e2, dy)
+        return (psi, phi, settled) if d.swap else (phi, psi, settled)
+
+    def settle(self, tau: np.float64) -> tuple[np.float64, np.float64, np.float64, np.float64]:
+        """``SlipWalk.settle`` for the one scene."""
+        for _ in range(NEWTON_MAXITER):
+            p, q, settled = self.advance(tau)
+            if settled:
+                return p, q, self.x, self.h
+        raise ArithmeticError(f"slip decay: Newton did not converge in {NEWTON_MAXITER} steps for 1 scene(s)")

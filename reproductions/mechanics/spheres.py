@@ -70,7 +70,7 @@ from numpy.typing import ArrayLike
 
 from .budget import bounded, check
 from .paths import PathCode, Regime, as_floats, batch_arrays, codes, pick
-from .slip import SlipDecay, SlipWalk, slip_decay
+from .slip import _TURNS, SlipDecay, SlipWalk, _DecayOne, _WalkOne, slip_decay
 
 __all__ = ["METHODS", "SpheresImpact", "contact_slip", "two_spheres"]
 
@@ -93,12 +93,21 @@ class SpheresImpact:
     label: str
 
 
+_NO_SLIP, _GRIP, _SLIDE = Regime.NO_SLIP, Regime.GRIP, Regime.SLIDE  # (an enum's attribute costs a microsecond)
+
+
 def _stack(*xs: Any) -> np.ndarray:
     """``np.stack(xs, axis=-1)``; for one scene as numpy floats (``paths.Path.scalar``) the array of them, without
     ``np.stack``'s fixed cost (the same numbers, placed alike)."""
     if all(x.__class__ is np.float64 for x in xs):
         return np.array(xs)
     return np.stack(xs, axis=-1)
+
+
+def _at(x: np.ndarray, i: int) -> np.ndarray:
+    """``x[..., i]``; of one scene's vector (1-D, ``paths.Path.scalar``) its numpy float, not a 0-d array (whose
+    arithmetic costs numpy's array calls; the same numbers)."""
+    return x[i] if x.ndim == 1 else x[..., i]
 
 
 def _fit(x: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
@@ -109,8 +118,8 @@ def _fit(x: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
 def contact_slip(v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, R: np.ndarray,
                  Rp: np.ndarray) -> np.ndarray:
     """Slip of M on M′ at the contact, eq. (1) of n°12, as (y, z) on the last axis."""
-    sy = v[..., 1] - vp[..., 1] + R * w[..., 2] + Rp * wp[..., 2]
-    sz = v[..., 2] - vp[..., 2] - R * w[..., 1] - Rp * wp[..., 1]
+    sy = _at(v, 1) - _at(vp, 1) + R * _at(w, 2) + Rp * _at(wp, 2)
+    sz = _at(v, 2) - _at(vp, 2) - R * _at(w, 1) - Rp * _at(wp, 1)
     return _stack(sy, sz)
 
 
@@ -120,8 +129,10 @@ def _apply(M: np.ndarray, Mp: np.ndarray, R: np.ndarray, Rp: np.ndarray, k: np.n
     """Velocities after the normal impulse ξ and the tangential impulse T (on M′), eqs (2), (2′): the impulse
     −(ξ x̂ + T) on M at R x̂ and ξ x̂ + T on M′ at −R′ x̂, T = (0, T_y, T_z); the moments R x̂ × (−T) and
     (−R′ x̂) × T are both R(0, T_z, −T_y) (R′ for M′). On the cloth the cloth takes the vertical impulses."""
-    Ty, Tz = T[..., 0], T[..., 1]
-    zero = np.float64(0.0) if xi.__class__ is np.float64 else np.zeros_like(xi)
+    if xi.__class__ is np.float64:  # one scene as numpy floats (``paths.Path.scalar``): T of shape (2,)
+        Ty, Tz, zero = T[0], T[1], np.float64(0.0)
+    else:
+        Ty, Tz, zero = T[..., 0], T[..., 1], np.zeros_like(xi)
     dv = _stack(-xi / M, -Ty / M, zero if on_cloth else -Tz / M)
     dvp = _stack(xi / Mp, Ty / Mp, zero if on_cloth else Tz / Mp)
     turn = _stack(zero, Tz, -Ty)
@@ -144,10 +155,10 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         v, w, vp, wp = (np.broadcast_to(x, (*batch, 3)) for x in (v, w, vp, wp))
         M, Mp, R, Rp, k, kp, f, eps, epsp = (np.broadcast_to(x, batch) for x in (M, Mp, R, Rp, k, kp, f, eps, epsp))
     mu = M / Mp
-    approach = v[..., 0] - vp[..., 0]
+    approach = _at(v, 0) - _at(vp, 0)
     omega = approach / (1 + mu)  # speed lost by M at the greatest compression
     s0 = contact_slip(v, w, vp, wp, R, Rp)
-    s0n = np.hypot(s0[..., 0], s0[..., 1])
+    s0n = np.hypot(_at(s0, 0), _at(s0, 1))
     cy = (1 + k) / M + (1 + kp) / Mp
     cz = (k / M + kp / Mp) if on_cloth else cy
 
@@ -201,16 +212,16 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
             omega1, converged, s_c, final = _cloth_normal_impulse(s0, approach, omega, M, cy, cz, f, coef)
         xi = M * omega1
         if final is None:
-            a1, b1 = slip_decay(np.abs(s0[..., 0]), np.abs(s0[..., 1]), M * cy, M * cz, f * omega1)
+            a1, b1 = slip_decay(np.abs(_at(s0, 0)), np.abs(_at(s0, 1)), M * cy, M * cz, f * omega1)
         else:
             a1, b1 = (x.reshape(batch) for x in final)
-        s1 = _stack(np.sign(s0[..., 0]) * a1, np.sign(s0[..., 1]) * b1)
+        s1 = _stack(np.sign(_at(s0, 0)) * a1, np.sign(_at(s0, 1)) * b1)
         label = ("exact: slip decay in closed form (₂F₁), normal impulse from law (6) by Newton's method"
                  if on_cloth else "exact: closed form, sliding or sticking (law (6) as a quadratic)")
-        T = _stack((s0[..., 0] - s1[..., 0]) / cy, (s0[..., 1] - s1[..., 1]) / cz)
-        stops = (np.hypot(s1[..., 0], s1[..., 1]) <= 1e-12 * np.maximum(s0n, 1e-300)) & (s0n > 0)
+        T = _stack((_at(s0, 0) - _at(s1, 0)) / cy, (_at(s0, 1) - _at(s1, 1)) / cz)
+        stops = (np.hypot(_at(s1, 0), _at(s1, 1)) <= 1e-12 * np.maximum(s0n, 1e-300)) & (s0n > 0)
     v1, w1, v1p, w1p = _apply(M, Mp, R, Rp, k, kp, v, w, vp, wp, xi, T, on_cloth)
-    regime = np.where(s0n == 0, Regime.NO_SLIP, np.where(stops, Regime.GRIP, Regime.SLIDE)).astype(np.int8)
+    regime = np.where(s0n == 0, _NO_SLIP, np.where(stops, _GRIP, _SLIDE)).astype(np.int8)
     return SpheresImpact(v1, w1, v1p, w1p, omega1, T, _fit(s_c, (*batch, 2)), _fit(converged, batch), method,
                          codes(batch, PathCode[method.upper()]), regime, label)
 
@@ -259,6 +270,8 @@ def _cloth_normal_impulse(s0: np.ndarray, approach: np.ndarray, omega: np.ndarra
     its own rounding, or the bracket is that narrow (bounded by ``NEWTON_MAXITER``). The iteration runs on the
     scenes still moving, its arrays compacted as scenes finish. Returns ω1, per scene whether it converged, the
     slip at the greatest compression (y, z, signed), and the magnitudes of the slip after (y, z)."""
+    if approach.__class__ is np.float64:  # one scene as numpy floats (``paths.Path.scalar``)
+        return _cloth_normal_impulse_one(s0, approach, omega, M, cy, cz, f, coef)
     shape = approach.shape
     sy, sz = np.sign(s0[..., 0]).ravel(), np.sign(s0[..., 1]).ravel()
     a0, b0 = np.abs(s0[..., 0]).ravel(), np.abs(s0[..., 1]).ravel()
@@ -275,8 +288,7 @@ def _cloth_normal_impulse(s0: np.ndarray, approach: np.ndarray, omega: np.ndarra
         sp = np.flatnonzero(~dec.gen)
         ac[sp], bc[sp], _ = dec.at(f[sp] * om_c[sp], sp)
     Yc, Zc = a0 - ac, b0 - bc
-    C = By * a0 * a0 + Bz * b0 * b0
-    hi0 = (approach + np.sqrt(approach * approach + 2 * N * C)) / N * (1 + 1e-12)
+    hi0 = _cloth_high(a0, b0, approach, N, By, Bz)
     g_c = law6_G(om_c, Yc, Zc, Yc, Zc, approach, coef)
     done = g_c >= 0  # ε = ε′ = 1 (to rounding): the impact ends at the greatest compression
     omega1, a1, b1, converged = om_c.copy(), ac.copy(), bc.copy(), done.copy()
@@ -284,7 +296,7 @@ def _cloth_normal_impulse(s0: np.ndarray, approach: np.ndarray, omega: np.ndarra
     ix = np.flatnonzero(~done)  # the scenes still moving; the arrays below are theirs
     cols = (a0, b0, Yc, Zc, approach, f, M * cy, M * cz, N, Ay, Az, By, Bz, om_c, hi0)
     A0, B0, YC, ZC, D, F, AL, BE, n_, ay, az, by, bz, lo, hi = (c[ix] for c in cols)
-    om = np.clip(2 * D / n_, lo, hi)  # start: the frictionless root
+    om = _cloth_start(D, n_, lo, hi)
     gen = dec.gen[ix]
     wi = np.flatnonzero(gen) if dec.special else slice(None)  # the general decays, walked; the others elementary
     walk = SlipWalk(dec, ix[wi], xc[ix[wi]], hc[ix[wi]])
@@ -301,36 +313,25 @@ def _cloth_normal_impulse(s0: np.ndarray, approach: np.ndarray, omega: np.ndarra
             p1[sp], q1[sp], _ = dec.at(tau[sp], ix[sp])
         else:
             p1, q1, settled = walk.advance(tau)
-        Y, Z = A0 - p1, B0 - q1
-        g = law6_G(om, Y, Z, YC, ZC, D, (n_, ay, az, by, bz))
-        # G's rounding: a few ulps of the sum of its terms' magnitudes (and of Y, Z, which cancel |s0| − |s|)
-        noise = 8 * _ULP * (n_ * om * om + 2 * D * om + ay * (Y * Y + 2 * A0 * Y) + az * (Z * Z + 2 * B0 * Z)
-                            + 2 * (by * (Y + A0) * YC + bz * (Z + B0) * ZC))
-        n = np.hypot(p1, q1)
         with np.errstate(divide="ignore", invalid="ignore"):
-            rate = F / n
-            if not (n > 0).all():  # a slip that has stopped: no rate (masks only where needed: cheaper)
-                rate[~(n > 0)] = 0.0
-            dY, dZ = AL * p1 * rate, BE * q1 * rate  # dY/dω, dZ/dω: the decay's rates
-            slope = 2 * (n_ * om - D + (ay * Y - by * YC) * dY + (az * Z - bz * ZC) * dZ)
-            nxt = om - g / slope
+            g, noise, dY, dZ, nxt = _cloth_newton(om, p1, q1, A0, B0, YC, ZC, D, F, AL, BE, (n_, ay, az, by, bz))
         # the bracket moves where the slip has converged for ω (there G is known to its rounding)
         np.maximum(lo, om, out=lo, where=settled & (g < 0))
         np.minimum(hi, om, out=hi, where=settled & (g > 0))
-        out = ~(np.isfinite(nxt) & (nxt > lo) & (nxt < hi))
+        out = ~_inside(nxt, lo, hi)
         if out.any():
-            nxt[out] = 0.5 * (lo[out] + hi[out])
+            nxt[out] = _bisect(lo[out], hi[out])
         # converged; or G at its own rounding (a slip 10⁵ times the approach speed loses that many digits in
         # Y = |s0| − |s|, and the steps then wander at 1e-12 of ω): the root is as known as G lets it be
-        quiet = settled & ((np.abs(g) <= noise) | (g == 0))
+        quiet = settled & _quiet(g, noise)
         if quiet.any():
             nxt[quiet] = om[quiet]
-        fin = alive & settled & ((np.abs(nxt - om) <= NEWTON_RTOL * np.abs(nxt)) | quiet
-                                 | (hi - lo <= NEWTON_RTOL * hi))
+        fin = alive & settled & _ends(nxt, om, quiet, lo, hi)
         if fin.any():
             k = np.flatnonzero(fin)
-            j, step = ix[k], nxt[k] - om[k]
-            omega1[j], a1[j], b1[j], converged[j] = nxt[k], p1[k] - dY[k] * step, q1[k] - dZ[k] * step, True
+            j = ix[k]
+            omega1[j], converged[j] = nxt[k], True
+            a1[j], b1[j] = _cloth_final(p1[k], q1[k], dY[k], dZ[k], nxt[k] - om[k])
             alive[k] = False
         om = nxt
         if alive.sum() < 0.9 * ix.size:  # compaction
@@ -350,6 +351,119 @@ def _cloth_normal_impulse(s0: np.ndarray, approach: np.ndarray, omega: np.ndarra
         omega1[ix], a1[ix], b1[ix] = om, p1, q1
     s_c = np.stack([sy * ac, sz * bc], axis=-1).reshape(*shape, 2)
     return omega1.reshape(shape), converged.reshape(shape), s_c, (a1, b1)
+
+
+def _cloth_high(a0: np.ndarray, b0: np.ndarray, approach: np.ndarray, N: np.ndarray, By: np.ndarray,
+                Bz: np.ndarray) -> np.ndarray:
+    """ω_hi of ``_cloth_normal_impulse``'s bracket: the root of G with the whole slip lost, widened by 1e-12."""
+    C = By * a0 * a0 + Bz * b0 * b0
+    return (approach + np.sqrt(approach * approach + 2 * N * C)) / N * (1 + 1e-12)
+
+
+def _cloth_start(D: np.ndarray, N: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """``_cloth_normal_impulse``'s start: the frictionless root, in the bracket (``np.clip``'s numbers, without its
+    fixed cost on numpy floats)."""
+    return np.minimum(np.maximum(2 * D / N, lo), hi)
+
+
+def _cloth_newton(om: np.ndarray, p1: np.ndarray, q1: np.ndarray, A0: np.ndarray, B0: np.ndarray, YC: np.ndarray,
+                  ZC: np.ndarray, D: np.ndarray, F: np.ndarray, AL: np.ndarray, BE: np.ndarray,
+                  coef: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
+    """One Newton step of ``_cloth_normal_impulse`` at ω with the slip (p1, q1) at τ = f ω: G, its rounding, the
+    decay's rates dY/dω, dZ/dω and the next ω (unguarded: the caller keeps it in the bracket)."""
+    n_, ay, az, by, bz = coef
+    Y, Z = A0 - p1, B0 - q1
+    g = law6_G(om, Y, Z, YC, ZC, D, coef)
+    # G's rounding: a few ulps of the sum of its terms' magnitudes (and of Y, Z, which cancel |s0| − |s|)
+    noise = 8 * _ULP * (n_ * om * om + 2 * D * om + ay * (Y * Y + 2 * A0 * Y) + az * (Z * Z + 2 * B0 * Z)
+                        + 2 * (by * (Y + A0) * YC + bz * (Z + B0) * ZC))
+    n = np.hypot(p1, q1)
+    if n.__class__ is np.float64:  # one scene (``paths.Path.scalar``): a slip that has stopped has no rate
+        rate = F / n if n > 0 else np.float64(0.0)
+    else:
+        rate = F / n
+        if not (n > 0).all():  # a slip that has stopped: no rate (masks only where needed: cheaper)
+            rate[~(n > 0)] = 0.0
+    dY, dZ = AL * p1 * rate, BE * q1 * rate  # dY/dω, dZ/dω: the decay's rates
+    slope = 2 * (n_ * om - D + (ay * Y - by * YC) * dY + (az * Z - bz * ZC) * dZ)
+    if slope.__class__ is np.float64 and not slope != 0:  # (one scene: no warning where the array route has none)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return g, noise, dY, dZ, om - g / slope
+    return g, noise, dY, dZ, om - g / slope
+
+
+def _inside(nxt: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Whether a Newton iterate is finite and strictly inside the bracket."""
+    return np.isfinite(nxt) & (nxt > lo) & (nxt < hi)
+
+
+def _bisect(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    return 0.5 * (lo + hi)
+
+
+def _quiet(g: np.ndarray, noise: np.ndarray) -> np.ndarray:
+    """G at its own rounding (``_cloth_normal_impulse``)."""
+    return (np.abs(g) <= noise) | (g == 0)
+
+
+def _ends(nxt: np.ndarray, om: np.ndarray, quiet: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """``_cloth_normal_impulse``'s stop (where the slip has converged for ω): a step below ``NEWTON_RTOL`` of ω,
+    G at its rounding, or the bracket that narrow."""
+    return (np.abs(nxt - om) <= NEWTON_RTOL * np.abs(nxt)) | quiet | (hi - lo <= NEWTON_RTOL * hi)
+
+
+def _cloth_final(p1: np.ndarray, q1: np.ndarray, dY: np.ndarray, dZ: np.ndarray, step: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """The slip after, corrected to first order for the last step of ω."""
+    return p1 - dY * step, q1 - dZ * step
+
+
+def _cloth_normal_impulse_one(s0: np.ndarray, approach: np.float64, omega: np.float64, M: np.float64,
+                              cy: np.float64, cz: np.float64, f: np.float64, coef: tuple[np.float64, ...]
+                              ) -> tuple[np.float64, np.bool_, np.ndarray, tuple[np.float64, np.float64]]:
+    """``_cloth_normal_impulse`` for one scene as numpy floats (``paths.Path.scalar``): the same formulas
+    (``slip._DecayOne``, ``slip._WalkOne``, ``_cloth_high``, ``law6_G``, ``_cloth_start``, ``_cloth_newton``, the
+    bracket's tests), the same tests, bracket and limits, its masks as branches; the same numbers."""
+    sy, sz = np.sign(s0[0]), np.sign(s0[1])
+    a0, b0 = np.abs(s0[0]), np.abs(s0[1])
+    N, _, _, By, Bz = coef
+    AL, BE = M * cy, M * cz
+    dec = _DecayOne(a0, b0, AL, BE)
+    turns = dec.kind == _TURNS
+    if turns:  # the slip at the greatest compression: walked from x = 1 to τ = f ω_c
+        ac, bc, xc, hc = _WalkOne(dec, np.float64(1.0), dec.total).settle(f * omega)
+    else:
+        ac, bc = dec.elementary(f * omega)
+    s_c = _stack(sy * ac, sz * bc)
+    Yc, Zc = a0 - ac, b0 - bc
+    hi = _cloth_high(a0, b0, approach, N, By, Bz)
+    if law6_G(omega, Yc, Zc, Yc, Zc, approach, coef) >= 0:  # the impact ends at the greatest compression
+        return omega, np.True_, s_c, (ac, bc)
+    lo = omega
+    om = _cloth_start(approach, N, lo, hi)
+    walk = _WalkOne(dec, xc, hc) if turns else None
+    p1 = q1 = om
+    for _ in range(NEWTON_MAXITER):
+        tau = f * om
+        if walk is not None:
+            p1, q1, settled = walk.advance(tau)
+        else:
+            (p1, q1), settled = dec.elementary(tau), True
+        g, noise, dY, dZ, nxt = _cloth_newton(om, p1, q1, a0, b0, Yc, Zc, approach, f, AL, BE, coef)
+        if settled:  # the bracket moves where the slip has converged for ω
+            if g < 0:
+                lo = np.maximum(lo, om)
+            elif g > 0:
+                hi = np.minimum(hi, om)
+        if not _inside(nxt, lo, hi):
+            nxt = _bisect(lo, hi)
+        quiet = settled and _quiet(g, noise)
+        if quiet:
+            nxt = om
+        if settled and _ends(nxt, om, quiet, lo, hi):
+            return nxt, np.True_, s_c, _cloth_final(p1, q1, dY, dZ, nxt - om)
+        om = nxt
+    return om, np.False_, s_c, (p1, q1)  # over NEWTON_MAXITER: the last iterate, not converged
 
 
 def _slip_ode(y0: np.ndarray, a_: float, b_: float, tau_max: float, rtol: float, solver: str) -> Any:

@@ -54,7 +54,9 @@ def n1_times(models: Iterable[str] | None = None, repeat: int = 2000,
         scene = m.scene(v)
         res = paths.solve(m, scene, "auto")
         p = next(q for q in m.paths if q.code == int(res.path.reshape(-1)[0]))
-        single = p.scalar and p is m._plan.order[0] and np.shape(scene[paths.ONES]) in ((), (1,))
+        # one scene: the path that took it runs on its numpy floats where it declares ``scalar``, whether it is
+        # the cheapest path (``solve``) or a later one taking the whole (``_auto_general``)
+        single = p.scalar and np.shape(scene[paths.ONES]) in ((), (1,))
         one = paths._one(m, scene) if single else None
         flat = one if one is not None else paths._flatten(m, scene)[2]  # what ``solve`` runs the path on
         raw = p.run(flat)
