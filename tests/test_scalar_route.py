@@ -12,38 +12,16 @@ no friction, k ≠ k′, slips 1e5 times the approach speed, the walk restarted 
 draws, and the cloth's exact path on drawn scenes.
 """
 
-import dataclasses
 
 import numpy as np
 import pytest
+from bitwise import bits as _bits
+from bitwise import same as _same
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from reproductions.mechanics import paths, registry, slip
 from reproductions.mechanics.paths import PathCode, Regime
-
-
-def _bits(x):
-    """The bytes of an array, NaNs made one NaN (their sign bit depends on the instruction, not the formula)."""
-    x = np.ascontiguousarray(x).reshape(-1)
-    if x.dtype.kind == "f":
-        x = np.where(np.isnan(x), np.nan, x)
-    return x.view(np.uint8)
-
-
-def _same(a, b, what):
-    fa = {f.name: getattr(a, f.name) for f in dataclasses.fields(a)}
-    fb = {f.name: getattr(b, f.name) for f in dataclasses.fields(b)}
-    assert type(a) is type(b) and fa.keys() == fb.keys(), what
-    for name, x in fa.items():
-        y = fb[name]
-        if isinstance(x, np.ndarray) or isinstance(y, np.ndarray):
-            assert type(x) is np.ndarray and type(y) is np.ndarray, (what, name, type(x), type(y))
-            assert x.dtype == y.dtype and x.shape == y.shape, (what, name, x.dtype, y.dtype, x.shape, y.shape)
-            np.testing.assert_array_equal(_bits(x), _bits(y), err_msg=f"{what}: {name} ({x} against {y})")
-        else:
-            assert x == y, (what, name, x, y)
-
 
 # scenes built to reach each regime and branch (values given; the model's defaults for the rest)
 CUSHION = [  # §IV: the slip turns (n0 ≠ 0, φ0 ≠ 0), for k = 2c across the kernel's branches

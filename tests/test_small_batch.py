@@ -7,43 +7,15 @@ functions, so they must agree exactly: every model × every path, single scenes 
 batches, then ``auto`` itself, and the refusals.
 """
 
-import dataclasses
 
 import numpy as np
 import pytest
+from bitwise import same as _same
 
 from reproductions.mechanics import paths, registry
 from reproductions.mechanics.paths import PathCode, PathError
 
 PAIRS = [(m.name, p.name) for m in registry.MODELS.values() for p in m.paths]
-
-
-def _fields(res):
-    return {f.name: getattr(res, f.name) for f in dataclasses.fields(res)}
-
-
-def _bits(x):
-    """The bytes of an array, NaNs made one NaN: a NaN carries no number, and the sign bit of a NaN from an invalid
-    operation (inf − inf, 0 × inf) depends on the instruction that made it, not on the formula."""
-    x = np.ascontiguousarray(x).reshape(-1)
-    if x.dtype.kind == "f":
-        x = np.where(np.isnan(x), np.nan, x)
-    return x.view(np.uint8)
-
-
-def _same(a, b, what):
-    """Equal field by field: arrays of one type, dtype, shape and bits (the sign of ±0 included; NaN where NaN);
-    the rest equal."""
-    fa, fb = _fields(a), _fields(b)
-    assert type(a) is type(b) and fa.keys() == fb.keys(), what
-    for name, x in fa.items():
-        y = fb[name]
-        if isinstance(x, np.ndarray) or isinstance(y, np.ndarray):
-            assert type(x) is np.ndarray and type(y) is np.ndarray, (what, name, type(x), type(y))
-            assert x.dtype == y.dtype and x.shape == y.shape, (what, name, x.dtype, y.dtype, x.shape, y.shape)
-            np.testing.assert_array_equal(_bits(x), _bits(y), err_msg=f"{what}: {name} ({x} against {y})")
-        else:
-            assert x == y, (what, name, x, y)
 
 
 def _singles(m, values, shape):
