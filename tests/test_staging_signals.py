@@ -15,10 +15,18 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def _as_from_a_terminal() -> None:
+    """The stop signals at their defaults in the child, as a terminal's shell starts it: under ``nohup`` or a
+    background job the suite's own process ignores SIGHUP or SIGINT, the child would inherit that, and resal
+    rightly keeps a signal ignored from the start (the tests would then test nothing)."""
+    for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(s, signal.SIG_DFL)
+
+
 def _child(code: str, tmp: Path) -> subprocess.CompletedProcess[str]:
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     return subprocess.run([sys.executable, "-c", textwrap.dedent(code), str(tmp)], env=env, capture_output=True,
-                          text=True, timeout=60)
+                          text=True, timeout=60, preexec_fn=_as_from_a_terminal)
 
 
 _PRELUDE = """
