@@ -21,9 +21,11 @@ def stress(
                                         parser=_count("--scenes", 1, 50_000_000))] = 1_000_000,
     ode_scenes: Annotated[int, typer.Option(help="scenes per ODE path (each one integrated)",
                                             parser=_count("--ode-scenes", 1, 100_000))] = 150,
-    referee_scenes: Annotated[int, typer.Option(help="scenes per referee (each integrated; every exact path is "
-                                                     "judged against them)",
-                                                parser=_count("--referee-scenes", 1, 100_000))] = 1_000,
+    referee_scenes: Annotated[int | None, typer.Option(help="scenes per referee (each integrated; every exact path "
+                                                            "is judged against them) [default: 1000, at most "
+                                                            "--scenes]",
+                                                       show_default=False,
+                                                       parser=_count("--referee-scenes", 1, 100_000))] = None,
     seed: Annotated[int, typer.Option(help="seed of the random scenes", parser=_count("--seed", 0, 2**63 - 1))] = 12,
     out: Annotated[Path, typer.Option("--out", help="folder for stress.json and stress.md",
                                       parser=_out_folder)] = Path("results/stress"),

@@ -871,14 +871,17 @@ def sweep_ok(res: dict[str, float]) -> bool:
 # ---- the whole run ---------------------------------------------------------------------------------------------
 def run(models: Sequence[str] = (), scenes: int = DEFAULT_SCENES, ode_scenes: int = DEFAULT_ODE_SCENES,
         pairs: int = DEFAULT_PAIRS, seed: int = 12, progress: Callable[[str, int], None] | None = None,
-        referee_scenes: int = DEFAULT_REFEREE_SCENES, jobs: int | None = None, scheduler: str | None = None) -> dict:
-    """The stress report of the named models (default: all); ``progress(model, scenes_done)``. The chunks run on
+        referee_scenes: int | None = None, jobs: int | None = None, scheduler: str | None = None) -> dict:
+    """The stress report of the named models (default: all); ``progress(model, scenes_done)``; ``referee_scenes``
+    by default ``DEFAULT_REFEREE_SCENES``, at most ``scenes`` (a small run stays small). The chunks run on
     ``jobs`` processes (None: one per core; 1: this process) or, given ``scheduler`` (``tcp://host:port``), on that
     Dask cluster (``sweep.executor``); the report is the same whichever runs them, but for its timing fields
     (``TIMINGS``, ``without_timings``)."""
     from .sweep import executor
 
     names = list(models) or list(registry.MODELS)
+    if referee_scenes is None:
+        referee_scenes = min(DEFAULT_REFEREE_SCENES, scenes)
     plans = [_Plan(registry.MODELS[name], scenes, ode_scenes, pairs, seed, referee_scenes) for name in names]
     t0 = time.perf_counter()
     with executor(jobs, scheduler) as ex:
