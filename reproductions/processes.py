@@ -79,7 +79,7 @@ def deferred() -> Iterator[None]:
     masking the main thread alone did not hold it back), and the main thread blocks them (where no handler of ours
     is installed, Python's own SIGINT handler would raise ``KeyboardInterrupt`` inside)."""
     sigs = set(STOP_SIGNALS)
-    masked = hasattr(signal, "pthread_sigmask") and threading_is_main()
+    masked = hasattr(signal, "pthread_sigmask") and _on_main_thread()
     old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs) if masked else None
     _DEFERRED[0] += 1
     try:
@@ -93,7 +93,7 @@ def deferred() -> Iterator[None]:
             raise Interrupted(signum)
 
 
-def threading_is_main() -> bool:
+def _on_main_thread() -> bool:
     """Whether this is the main thread (the only one that may change signal handling), without importing
     ``threading`` where it is not yet loaded."""
     threading = sys.modules.get("threading")

@@ -37,6 +37,17 @@ _PRELUDE = """
 """
 
 
+def _signal_after_mkdir(sig: str) -> str:
+    """Child code after which every ``Path.mkdir`` sends ``signal.<sig>`` to the process as the folder exists."""
+    return f"""
+    real = pathlib.Path.mkdir
+    def mkdir(self, *a, **k):
+        real(self, *a, **k)
+        os.kill(os.getpid(), signal.{sig})
+    pathlib.Path.mkdir = mkdir
+"""
+
+
 def test_a_signal_inside_the_removal_of_a_staging_folder_still_removes_it_whole(tmp_path: Path) -> None:
     """The signal arrives at the first file ``rmtree`` unlinks: the removal finishes, then the run is interrupted
     (without the signals held, the exception stops ``rmtree`` there and 29 files stay behind)."""
@@ -64,12 +75,7 @@ def test_a_signal_inside_the_removal_of_a_staging_folder_still_removes_it_whole(
 
 def test_a_signal_between_the_mkdir_and_its_maker_knowing_the_folder_leaves_nothing(tmp_path: Path) -> None:
     """The signal arrives as ``mkdir`` returns: ``staging_folder`` still knows the folder and removes it."""
-    r = _child(_PRELUDE + """
-    real = pathlib.Path.mkdir
-    def mkdir(self, *a, **k):
-        real(self, *a, **k)
-        os.kill(os.getpid(), signal.SIGTERM)
-    pathlib.Path.mkdir = mkdir
+    r = _child(_PRELUDE + _signal_after_mkdir("SIGTERM") + """
     try:
         with processes.interruptible():
             with report.staging_folder(tmp, "figures") as p:
@@ -86,11 +92,7 @@ def test_write_folder_interrupted_as_its_staging_is_made_leaves_the_folder_as_it
     r = _child(_PRELUDE + """
     (tmp / "exp").mkdir()
     (tmp / "exp" / "old.txt").write_text("earlier")
-    real = pathlib.Path.mkdir
-    def mkdir(self, *a, **k):
-        real(self, *a, **k)
-        os.kill(os.getpid(), signal.SIGHUP)
-    pathlib.Path.mkdir = mkdir
+    """ + _signal_after_mkdir("SIGHUP") + """
     try:
         with processes.interruptible():
             report.write_folder(tmp / "exp", {"new.txt": "new"})
