@@ -17,6 +17,7 @@ import reproductions.startup  # noqa: F401  (first: a signal during the imports 
 
 # isort: split
 import sys
+from typing import NoReturn
 
 # each module registers its command on app as it is imported: in this order, the order of `resal --help`
 # isort: off
@@ -34,8 +35,6 @@ def main() -> None:
     """The ``resal`` command: every command ends in its result, or one line and an exit status — 2 bad input, 1
     a failure of the environment or of a computation, 128 + n for a signal (SIGINT, SIGTERM, SIGHUP) — never a
     traceback."""
-    import errno
-
     _PROCESS["own"] = True
     _streams_for_this_terminal()
     try:
@@ -48,23 +47,51 @@ def main() -> None:
                 sys.stdout.flush()
     except SystemExit:
         raise
-    except Interrupted as exc:
-        _last_words(f"interrupted ({exc.name}); earlier results left as they were", 128 + exc.signum)
-    except KeyboardInterrupt:
-        _last_words("interrupted (SIGINT); earlier results left as they were", 130)
+    except (Interrupted, KeyboardInterrupt) as exc:
+        _stopped(exc)
     except BrokenPipeError:  # `resal … | head`: the reader has gone; nothing to say
         _last_words("", 141)
-    except OSError as exc:
+    except (OSError, MemoryError, ImportError) as exc:
+        _failed(exc)
+
+
+def _signal_within(exc: BaseException) -> BaseException | None:
+    """The stop signal behind ``exc``, if one is: a signal whose handler raised inside a library's initialisation
+    comes out wrapped (pybind11's modules, matplotlib's among them, turn any error of their init into
+    ``ImportError('initialization failed')`` raised from it)."""
+    seen: set[int] = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, (Interrupted, KeyboardInterrupt)):
+            return exc
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return None
+
+
+def _stopped(exc: BaseException) -> NoReturn:
+    """One line and 128 + n for the stop signal ``exc`` (``Interrupted``, or Python's own ``KeyboardInterrupt``)."""
+    name, signum = (exc.name, exc.signum) if isinstance(exc, Interrupted) else ("SIGINT", 2)
+    _last_words(f"interrupted ({name}); earlier results left as they were", 128 + signum)
+
+
+def _failed(exc: BaseException) -> NoReturn:
+    """One line and the status for a failure of the environment (1), or for the signal that caused it (128 + n)."""
+    import errno
+
+    stop = _signal_within(exc)
+    if stop is not None:
+        _stopped(stop)
+    if isinstance(exc, OSError):
         if exc.errno in (errno.ENOSPC, errno.EIO, errno.EDQUOT, errno.EFBIG):
             _last_words(f"cannot write ({exc.strerror}): standard output or a file could not take the output", 1)
         if exc.errno == errno.ENOMEM:  # a thread or a mapping refused under a memory limit (where numpy loads)
             _last_words(f"out of memory ({exc.strerror}; a limit on this process's memory? `ulimit -v`)", 1)
         _last_words(f"a failure of the environment: {exc.strerror or exc}", 1)
-    except MemoryError:
+    if isinstance(exc, MemoryError):
         _last_words("out of memory (a limit on this process's memory? `ulimit -v`)", 1)
-    except ImportError as exc:
-        _last_words(f"cannot load {exc.name or 'a library'} ({exc}); out of memory, or an incomplete install "
-                    "(`make setup`)?", 1)
+    name = getattr(exc, "name", None)
+    _last_words(f"cannot load {name or 'a library'} ({exc}); out of memory, or an incomplete install "
+                "(`make setup`)?", 1)
 
 
 if __name__ == "__main__":

@@ -151,3 +151,46 @@ def test_a_signal_inside_a_deferred_block_with_other_threads_waits_for_its_end(t
     """, tmp_path)
     assert r.returncode == 0, r.stderr
     assert r.stdout.split() == ["['block", "finished']", "interrupted", str(int(signal.SIGTERM))], r.stdout
+
+
+def _library_whose_init_fails(signal_first: bool) -> str:
+    """Child code that runs ``resal list`` where importing ``yaml`` runs a library's initialisation that fails as
+    pybind11's modules do (matplotlib's among them): any error of the init is caught and raised again as
+    ``ImportError('initialization failed')`` from it. With ``signal_first`` the error is a stop signal landing
+    there (found by CI: a SIGINT 1.66 s into a run on a loaded machine ended it as "cannot load a library", 1)."""
+    return f"""
+    import importlib.abc, importlib.util, os, signal, sys, time
+    class Init(importlib.abc.Loader):
+        def create_module(self, spec):
+            return None
+        def exec_module(self, module):
+            try:
+                if {signal_first}:
+                    os.kill(os.getpid(), signal.SIGINT)
+                    for _ in range(200):
+                        time.sleep(0.001)  # the handler runs here
+                raise RuntimeError("the library's own failure")
+            except BaseException as exc:  # pybind11: catch (error_already_set &e) {{ raise_from(e, ...) }}
+                raise ImportError("initialization failed") from exc
+    class Finder(importlib.abc.MetaPathFinder):
+        def find_spec(self, name, path=None, target=None):
+            return importlib.util.spec_from_loader(name, Init()) if name == "yaml" else None
+    sys.meta_path.insert(0, Finder())
+    sys.argv = ["resal", "list"]
+    from cli.main import main
+    main()
+    """
+
+
+def test_a_signal_inside_a_library_initialisation_ends_the_run_as_that_signal(tmp_path: Path) -> None:
+    """The signal, wrapped by the library into an ImportError, is still the signal: one line, 128 + n."""
+    r = _child(_library_whose_init_fails(True), tmp_path)
+    assert (r.returncode, r.stderr) == (128 + signal.SIGINT, "error: interrupted (SIGINT); earlier results left "
+                                                            "as they were\n"), (r.returncode, r.stderr)
+
+
+def test_a_library_initialisation_failing_by_itself_is_a_failure_to_load(tmp_path: Path) -> None:
+    """The control: the same init failing with no signal is a failure of the environment, status 1."""
+    r = _child(_library_whose_init_fails(False), tmp_path)
+    assert r.returncode == 1 and r.stderr.startswith("error: cannot load a library (initialization failed)"), (
+        r.returncode, r.stderr)
