@@ -1,7 +1,7 @@
-"""Modules imported at their first use, not at the importer's: ``stats = lazy("scipy.stats", globals())`` reads like
+"""Modules imported at their first use, not at the importer's: ``optimize = lazy("scipy.optimize", globals())`` reads like
 the module and imports it when an attribute is first asked for, then puts the module itself in the importer's
-namespace under the same name (``stats``), so that later uses are plain global lookups with nothing in between.
-scipy.stats, .optimize, .special and .interpolate take about half a second to import, and most commands (``list``,
+namespace under the same name (``optimize``), so that later uses are plain global lookups with nothing in between.
+scipy.optimize, .special, .interpolate and .integrate take about half a second to import, and most commands (``list``,
 a reproduction whose rows fit nothing, ``--help``) use none. No other module of ours is imported here (layer 0)."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from typing import Any
 __all__ = ["HEAVY", "LazyModule", "lazy", "preload"]
 
 # the subpackages imported at first use; ``preload`` them before forking workers that will all need them
-HEAVY = ("scipy.stats", "scipy.optimize", "scipy.special", "scipy.interpolate", "scipy.integrate")
+HEAVY = ("scipy.optimize", "scipy.special", "scipy.interpolate", "scipy.integrate")
 
 
 class LazyModule:

@@ -464,9 +464,9 @@ def comparisons(p: Params, h: HeadOn, rng: np.random.Generator
     ac, at = p.get("cue_sliding_acceleration"), p.get("target_sliding_acceleration")
     verdict, diff = judge(np.abs(meas["target_sliding_acceleration"]), meas["cue_sliding_acceleration"])
     lo, mid, hi = quantiles(np.abs(meas["target_sliding_acceleration"]))
-    from scipy import stats  # only here: the χ² tail
+    from ..fit import distributions as dist  # only here: the χ² tail
 
-    p_value = float(stats.chi2.sf(h.chi2, 1))
+    p_value = float(dist.chi2_sf(h.chi2, 1))
     outcomes["mu_common"] = {"": Outcome(verdict, mid, (lo, hi), diff, "")}
     out["mu_common"] = Comparison(
         ac.value, f"{ac.text} {ac.unit}", ac.how_uncertain, mid, (lo, hi), verdict,

@@ -19,9 +19,9 @@ from pathlib import Path
 import numpy as np
 
 from ..config import Experiment, Node
+from ..fit import distributions as dist
 from ..fit.estimators import markers as mk
 from ..fit.estimators import shots
-from ..lazy import lazy
 from ..results import modern_table
 from ..series import Markers, read_markers
 from .base import (
@@ -34,8 +34,6 @@ from .base import (
     modern_rows,
     rows_for,
 )
-
-stats = lazy("scipy.stats", globals())
 
 QUANTITIES = ("series_agree", "alpha1_shape", "throw_shape", "throw_halves", "delta2_throw", "delta2_separation",
               "delta2_cue", "f_vs_modern", "f_vs_coriolis", "e_vs_modern")
@@ -197,7 +195,7 @@ def run(exp: Experiment) -> Reproduction:
     comparisons = {
         "series_agree": Comparison(
             lr, f"Λ = {lr:.2f}", f"χ² with {dof} degrees of freedom if the series share (f, e)", 0.0,
-            (0.0, float(stats.chi2.ppf(0.95, dof))), "consistent" if p_lr >= 0.05 else "inconsistent",
+            (0.0, float(dist.chi2_ppf(0.95, dof))), "consistent" if p_lr >= 0.05 else "inconsistent",
             f"Λ = −2lnL of the joint fit ({fj.m2lnl:.2f}) − those of α1 alone ({fa.m2lnl:.2f}) and the throw alone "
             f"({ft.m2lnl:.2f}); p = {_p(p_lr)}."),
         "alpha1_shape": slope_cmp(sl_a, pa.size, f"α1 at the joint fit (σ̂ {fj.sigma[0]:.2f}°)"),

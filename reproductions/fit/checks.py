@@ -24,10 +24,8 @@ from typing import Any
 
 import numpy as np
 
-from ..lazy import lazy
 from ..series import UNITS, Series, Table, unit_label
-
-stats = lazy("scipy.stats", globals())
+from . import distributions as dist
 
 __all__ = [
     "G_HIGH",
@@ -292,7 +290,7 @@ def _unit_jump(s: Series, num: str, den: str, r: np.ndarray, rows: np.ndarray) -
 
 def chi2_given(chi2: float, dof: int) -> tuple[float, float]:
     """Reduced χ² and the p-value of χ² at least this large, when σ was given."""
-    return chi2 / max(dof, 1), float(stats.chi2.sf(chi2, max(dof, 1)))
+    return chi2 / max(dof, 1), float(dist.chi2_sf(chi2, max(dof, 1)))
 
 
 CHI2_P = 0.01  # a given σ is contradicted when χ² this improbable (or worse) is seen
@@ -391,12 +389,12 @@ def leave_one_out(r: np.ndarray, J: np.ndarray, groups: np.ndarray, *, sigma_kno
         sd[idx] = np.sqrt(np.clip(np.diag(Ainv), 0, None) * scale2)
     done = np.isfinite(Qs)  # the distributions once for all trials (a call per trial costs more than its algebra)
     if sigma_known:
-        pvals[done] = stats.chi2.sf(Qs[done], sizes[done])
-        quant = np.where(done, float(stats.norm.ppf(0.975)), np.nan)
+        pvals[done] = dist.chi2_sf(Qs[done], sizes[done])
+        quant = np.where(done, float(dist.norm_ppf(0.975)), np.nan)
     else:
-        pvals[done] = stats.f.sf(Qs[done] / sizes[done] / scales[done], sizes[done], dfs[done])
+        pvals[done] = dist.f_sf(Qs[done] / sizes[done] / scales[done], sizes[done], dfs[done])
         quant = np.full(labels.size, np.nan)
-        quant[done] = stats.t.ppf(0.975, dfs[done])
+        quant[done] = dist.t_ppf(0.975, dfs[done])
     for k in np.flatnonzero(done):
         q[order[starts[k]:ends[k]]] = quant[k]
     return {"deleted": deleted, "sd": sd, "q": q, "p": pvals, "stat": statv, "labels": labels,

@@ -44,16 +44,16 @@ import numpy as np
 
 from ...lazy import lazy
 from ...mechanics import spheres
+from .. import distributions as dist
 from .shots import predict_shots
 
 interpolate = lazy("scipy.interpolate", globals())
-stats = lazy("scipy.stats", globals())
 
 __all__ = ["ANGLES", "CUT", "FLOOR", "INTERP_TOL", "PSI_NODES", "MarkerFit", "Model", "Part", "SlopeTest", "agreement",
            "angles", "fit_f_fixed_e", "fit_markers", "m2lnl", "prediction_band", "slip_speeds", "slope_test"]
 
 ANGLES = ("alpha1", "throw", "sep_dev", "cue_dev", "throw_rolled")
-CUT = 3.841458820694124  # scipy.stats.chi2.ppf(0.95, 1) (tested): one parameter profiled (Wilks)
+CUT = 3.841458820694124  # scipy.dist.chi2_ppf(0.95, 1) (tested): one parameter profiled (Wilks)
 FLOOR = 0.5  # degrees: the digitisation error, the floor of each series' σ
 F_BOUNDS = (0.0, 0.6)
 E_BOUNDS = (0.05, 1.0)
@@ -355,7 +355,7 @@ def agreement(separate: Sequence[MarkerFit], joint: MarkerFit) -> tuple[float, i
     of freedom (2 per extra fit: f and e) and its χ² p-value. A small p: the series do not share (f, e)."""
     lr = max(joint.m2lnl - sum(s.m2lnl for s in separate), 0.0)
     dof = 2 * (len(separate) - 1)
-    return float(lr), dof, float(stats.chi2.sf(lr, dof))
+    return float(lr), dof, float(dist.chi2_sf(lr, dof))
 
 
 @dataclass(frozen=True)
@@ -368,7 +368,7 @@ class SlopeTest:
 def slope_test(psi: np.ndarray, res: np.ndarray) -> SlopeTest:
     """Least-squares line of the residuals against ψ: a trend means the model's shape, not only its level, is off
     (here: a constant friction f through the impact, §VI, is not enough)."""
-    r = stats.linregress(psi, res)
+    r = dist.line(psi, res)
     return SlopeTest(float(r.slope), float(r.stderr), float(r.pvalue))
 
 

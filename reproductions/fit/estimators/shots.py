@@ -63,10 +63,10 @@ from numpy.typing import ArrayLike
 from ...errors import ComputationError, InputError
 from ...lazy import lazy
 from ...mechanics import cloth, impact, spheres
+from .. import distributions as dist
 from .lsq import FitResult, analyse, least_squares_fit
 
 special = lazy("scipy.special", globals())
-stats = lazy("scipy.stats", globals())
 
 __all__ = ["QUANTITIES", "BallBallFit", "OverBudget", "ShotPrediction", "ShotResiduals", "WeightedRows", "ball_tilt",
            "fit_columns", "fit_many", "fit_shots", "predict_shots", "shot_residuals", "synthetic_shots",
@@ -602,14 +602,14 @@ def _profile_cut(n: np.ndarray, nu: np.ndarray, share: np.ndarray, given: bool) 
     cut is the 95 % quantile of that sum: P(rise ≤ c) = E_X[P(Z² ≤ z²(c, X))], averaged over ``CUT_NODES``
     quantiles of each X_k, and solved for c by regula falsi."""
     if given:
-        return float(stats.chi2.ppf(PROFILE_LEVEL, 1))
+        return float(dist.chi2_ppf(PROFILE_LEVEL, 1))
     use = (n > 0) & (share > 1e-12)
     nk, nuk, sk = n[use].astype(float), np.maximum(nu[use], 1.0), share[use] / share[use].sum()
     if nk.size == 1:
-        t = float(stats.t.ppf(0.5 + PROFILE_LEVEL / 2, nuk[0]))
+        t = float(dist.t_ppf(0.5 + PROFILE_LEVEL / 2, nuk[0]))
         return float(nk[0] * math.log1p(t * t / nuk[0]))
     q = (np.arange(CUT_NODES) + 0.5) / CUT_NODES
-    X = np.stack(np.meshgrid(*(stats.chi2.ppf(q, v) for v in nuk), indexing="ij"), axis=-1).reshape(-1, nk.size)
+    X = np.stack(np.meshgrid(*(dist.chi2_ppf(q, v) for v in nuk), indexing="ij"), axis=-1).reshape(-1, nk.size)
     a = sk / X  # (nodes, K): the rise is Σ n_k ln(1 + a_k z²)
     z = np.zeros(X.shape[0])
 
@@ -626,7 +626,7 @@ def _profile_cut(n: np.ndarray, nu: np.ndarray, share: np.ndarray, given: bool) 
         return float(np.mean(special.erf(np.sqrt(z / 2)))) - PROFILE_LEVEL  # the χ²₁ distribution function
 
     # regula falsi (Illinois) on c: the single-kind cuts bracket it (the rise of one kind is the extreme)
-    lo = float(stats.chi2.ppf(PROFILE_LEVEL, 1))
+    lo = float(dist.chi2_ppf(PROFILE_LEVEL, 1))
     hi = 4.0 * lo
     glo, ghi = excess(lo), excess(hi)
     side = 0

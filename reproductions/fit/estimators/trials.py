@@ -35,11 +35,11 @@ from typing import Any
 import numpy as np
 
 from ...lazy import lazy
+from .. import distributions as dist
 from .lsq import FitResult
 
 optimize = lazy("scipy.optimize", globals())
 special = lazy("scipy.special", globals())
-stats = lazy("scipy.stats", globals())
 
 __all__ = ["Bootstrap", "BoundedInterval", "Noise", "PolyLaw", "RatioFit", "bootstrap", "bootstrap_many",
            "bounded_interval", "fit_ratio", "fit_ratio_both", "poly_law", "select_law", "transform_interval",
@@ -139,7 +139,7 @@ def fit_ratio(x: np.ndarray, y: np.ndarray, noise: Noise = Noise.AUTO, sigma: fl
     wrss = float(np.sum(w * (q - c) ** 2))
     if noise is Noise.GIVEN:
         se, quant, scale = math.sqrt(1.0 / float(np.sum(w))), float(special.ndtri(0.975)), float(sigma or 0.0)
-        chi2, chi2_p = wrss, float(stats.chi2.sf(wrss, dof))
+        chi2, chi2_p = wrss, float(dist.chi2_sf(wrss, dof))
     else:
         s2 = wrss / dof
         se, quant, scale = math.sqrt(s2 / float(np.sum(w))), float(special.stdtrit(dof, 0.975)), math.sqrt(s2)
@@ -214,7 +214,7 @@ def fit_ratio_both(x: np.ndarray, y: np.ndarray, sigma_x: float, sigma: float | 
     chi2 = S(c) if given else None
     return RatioFit(c, se, (c - quant * se, c + quant * se), Noise.GIVEN if given else Noise.CONSTANT,
                     math.sqrt(sy2), n - 1, quant, tuple(map(float, x * x / v)), tuple(map(float, r)), ll,
-                    chi2, None if chi2 is None else float(stats.chi2.sf(chi2, n - 1)), float(sigma_x),
+                    chi2, None if chi2 is None else float(dist.chi2_sf(chi2, n - 1)), float(sigma_x),
                     math.sqrt(sy2), steps, math.sqrt(scale), S)
 
 
@@ -345,11 +345,11 @@ def _nested_test(lo: PolyLaw, hi: PolyLaw, absolute: bool) -> LawTest:
     dp = hi.order - lo.order
     drop = max(lo.rss - hi.rss, 0.0)
     if absolute:
-        return LawTest(lo.order, hi.order, drop, float(stats.chi2.sf(drop, dp)), "chi2")
+        return LawTest(lo.order, hi.order, drop, float(dist.chi2_sf(drop, dp)), "chi2")
     if hi.rss <= 0:
         return LawTest(lo.order, hi.order, 1e300, 0.0, "F")
     F = (drop / dp) / (hi.rss / hi.dof)
-    return LawTest(lo.order, hi.order, float(F), float(stats.f.sf(F, dp, hi.dof)), "F")
+    return LawTest(lo.order, hi.order, float(F), float(dist.f_sf(F, dp, hi.dof)), "F")
 
 
 def select_law(v: np.ndarray, q: np.ndarray, w: np.ndarray, absolute: bool = False

@@ -24,9 +24,9 @@ from typing import Any
 import numpy as np
 
 from ...errors import ComputationError, InputError
-from ...lazy import lazy
 from ...results import FigureSpec, layer
 from ...series import Series, Table, as_table, read_series
+from .. import distributions as dist
 from ..checks import (
     CHI2_P,
     Code,
@@ -63,8 +63,6 @@ from .common import (
     rows_from_fit,
     today,
 )
-
-stats = lazy("scipy.stats", globals())
 
 DIMS = {"v": "speed", "phi": "angle", "cue_speed": "speed", "cue_dir": "angle", "obj_speed": "speed",
         "obj_dir": "angle"}
@@ -502,12 +500,12 @@ def _loo(summary: dict[str, Any], s: Series, cols: dict[str, np.ndarray], fit: B
     extra = 0 if given or summary["noise"]["model"] == "given" else n_kinds - 1
     res = leave_one_out(rows.r, rows.J, rows.shot, sigma_known=given, dof_extra=extra)
     labels = [int(g) for g in res["labels"]]
-    q = np.full(rows.r.size, float(stats.norm.ppf(0.975)))  # per row: the 95 % quantile of its shot's interval
+    q = np.full(rows.r.size, float(dist.norm_ppf(0.975)))  # per row: the 95 % quantile of its shot's interval
     if not given:
         for g in labels:
             idx = rows.shot == g
             df = rows.r.size - int(res["rank"]) - int(idx.sum()) - extra
-            q[idx] = float(stats.t.ppf(0.975, df)) if df >= 1 else math.nan
+            q[idx] = float(dist.t_ppf(0.975, df)) if df >= 1 else math.nan
     e, sd = res["deleted"], res["sd"]
     pred, lo, hi = (rows.value(z) for z in (e, e - q * sd, e + q * sd))
     out, lines = [], []

@@ -22,6 +22,7 @@ from ...lazy import lazy
 from ...mechanics import impact
 from ...results import FigureSpec, layer
 from ...series import Series, Table, as_table, check_pendulum_trials, header_names, read_series
+from .. import distributions as dist
 from ..checks import (
     CHI2_P,
     PLAUSIBLE,
@@ -51,7 +52,6 @@ from .common import (
 )
 
 special = lazy("scipy.special", globals())
-stats = lazy("scipy.stats", globals())
 
 DIMS = {"V0": "speed", "V1": "speed", "V1p": "speed", "M": "mass", "Mp": "mass"}
 LABELS = {"eps": "ε (striking body)", "epsp": "ε′ (struck body)"}
@@ -167,7 +167,7 @@ def fit_pendulum(kind: str, source: Path | Table, opts: FitOptions) -> FitOutcom
     summary["goodness"] = {"reduced_chi2": None, "chi2_p": None}
     if sigma_in is not None and fit.dof > 0:
         chi2 = float(np.sum((r_all / np.broadcast_to(np.asarray(sigma), r_all.shape)) ** 2))
-        p_chi2 = float(stats.chi2.sf(chi2, fit.dof))
+        p_chi2 = float(dist.chi2_sf(chi2, fit.dof))
         summary["goodness"] = {"reduced_chi2": chi2 / fit.dof, "chi2_p": p_chi2}
         if p_chi2 < CHI2_P:
             warn(summary, Code.CHI2, f"the scatter exceeds the given σ: reduced χ² = {chi2 / fit.dof:.3g} "

@@ -24,6 +24,7 @@ from ...lazy import lazy
 from ...mechanics import impact
 from ...results import FigureSpec, layer
 from ...series import Series, Table, as_table, header_names, read_series, unit_label
+from .. import distributions as dist
 from ..checks import (
     CHI2_P,
     Code,
@@ -64,7 +65,6 @@ from .common import (
 )
 
 special = lazy("scipy.special", globals())
-stats = lazy("scipy.stats", globals())
 
 BOUND_TOL = 1e-12  # e this close to 0 or 1 sits on the bound of its admissible range
 DIMS = {"V0": "speed", "V1": "speed", "u0": "speed", "u1": "speed", "h0": "length", "h1": "length"}
@@ -365,7 +365,7 @@ def _check_fit(summary: dict[str, Any], s: Series, fr: RatioFit, x: np.ndarray, 
             noise_plausible(summary, fr.scale / factor, NOISE_REL_LIMIT * size / factor, out_name, unit)
     if fr.sigma_x is not None and fr.noise is not Noise.GIVEN and fr.common_scale < 1.0:
         chi2 = fr.dof * fr.common_scale**2  # S(ĉ) with σ = 0: χ² with n − 1 degrees of freedom if σ_in is right
-        p_low = float(stats.chi2.cdf(chi2, fr.dof))
+        p_low = float(dist.chi2_cdf(chi2, fr.dof))
         if p_low < 0.01:
             warn(summary, Code.ASSUMED, f"σ_in = {summary['noise']['errors_in_both']['sigma_in_as_given']} on "
                                         f"{s.written[in_col]} is more than the scatter about the fit allows (χ² = "
@@ -592,7 +592,7 @@ def _pure_error(x: np.ndarray, y: np.ndarray, w: np.ndarray, c: float) -> dict[s
         return {"test": "pure error F", "F": None, "df": [df1, df2], "p": 0.0,
                 "note": "the repeats agree exactly while the impacts' means differ (F infinite)"}
     F = (between / df1) / (sspe / df2)
-    return {"test": "pure error F", "F": F, "df": [df1, df2], "p": float(stats.f.sf(F, df1, df2))}
+    return {"test": "pure error F", "F": F, "df": [df1, df2], "p": float(dist.f_sf(F, df1, df2))}
 
 
 def _finite(v: float | None) -> bool:
