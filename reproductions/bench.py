@@ -459,8 +459,11 @@ def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str
     from . import targets
 
     report["calibration"] = targets.calibration()  # alone, after the rest: the machine as the timings found it
+    from . import pooltool_side
+
+    # where pooltool is installed: its collisions timed here, for the targets' side-by-side rows
+    report["pooltool"] = pooltool_side.measure(200 if quick else 2000, progress=progress)
     report["targets"] = [t.as_dict() for t in targets.rows(report)]
-    report["pooltool"] = targets.pooltool_version()
     return report
 
 

@@ -1,5 +1,5 @@
-"""Modules imported at their first use, not at the importer's: ``optimize = lazy("scipy.optimize", globals())`` reads like
-the module and imports it when an attribute is first asked for, then puts the module itself in the importer's
+"""Modules imported at their first use, not at the importer's: ``optimize = lazy("scipy.optimize", globals())``
+reads like the module and imports it when an attribute is first asked for, then puts the module itself in the importer's
 namespace under the same name (``optimize``), so that later uses are plain global lookups with nothing in between.
 scipy.optimize, .special, .interpolate and .integrate take about half a second to import, and most commands (``list``,
 a reproduction whose rows fit nothing, ``--help``) use none. No other module of ours is imported here (layer 0)."""

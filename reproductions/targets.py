@@ -1,16 +1,14 @@
 """The speed targets of issue 34, read from a benchmark report (``bench.run``): each figure as measured, its target,
 and whether it is met, beside the machine's calibration loop (so that a figure from another machine can be scaled
-before it is compared). Standard library only; pooltool's column appears where pooltool is installed."""
+before it is compared). Standard library only; pooltool's figures (``pooltool_side``) where pooltool is installed."""
 
 from __future__ import annotations
 
-import importlib.util
 import time
 from dataclasses import asdict, dataclass
 from typing import Any
 
-__all__ = ["CALIBRATION_LOOP", "Target", "calibration", "pooltool_version", "rows", "terminal_lines",
-           "to_markdown"]
+__all__ = ["CALIBRATION_LOOP", "POOLTOOL_TARGET", "Target", "calibration", "rows", "terminal_lines", "to_markdown"]
 
 CALIBRATION_LOOP = 1_000_000  # iterations of the pure-Python loop timed by ``calibration``
 
@@ -57,18 +55,6 @@ def calibration(repeat: int = 5) -> dict[str, float]:
             "numpy_ns_per_element": min(vec() for _ in range(repeat)) * 1e9}
 
 
-def pooltool_version() -> str | None:
-    """pooltool's version where it is installed (an optional comparison, never a dependency), else None."""
-    if importlib.util.find_spec("pooltool") is None:
-        return None
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("pooltool-billiards")
-    except PackageNotFoundError:
-        return "installed"
-
-
 # model id → what the issue calls it; one scene through `auto`, µs (issue 34, item 1)
 _ONE_SCENE = (("direct-impact", "one scene: direct impact", 30.0), ("plane-impact", "one scene: plane", 30.0),
               ("cloth-slide", "one scene: cloth-slide", 30.0), ("cue-stroke", "one scene: cue-stroke", 30.0),
@@ -78,6 +64,7 @@ _ONE_SCENE = (("direct-impact", "one scene: direct impact", 30.0), ("plane-impac
 BATCH_TARGET = 1e6  # §VI on the cloth, scenes/s through auto (item 2)
 BATCH_ERROR = 1e-10  # … at this error against the referee
 MAKE_ALL_COLD, MAKE_ALL_CACHED = 5.0, 0.5  # seconds (item 3)
+POOLTOOL_TARGET = 100.0  # pooltool's default model's µs per collision over ours per scene in a batch (item 5)
 
 
 def _met(now: float | None, target: float, larger: bool) -> bool | None:
@@ -103,11 +90,39 @@ def rows(report: dict[str, Any]) -> list[Target]:
         out.append(Target(f"§VI cloth: auto's error, {auto['where_exact']['scenes']} scenes", "relative", err,
                           BATCH_ERROR, False, "models[spheres-cloth].auto.where_exact.max_error (against the referee)",
                           _met(err, BATCH_ERROR, False)))
+    out += _pooltool_rows(report)
     ma = report.get("make_all")
     for key, what, target in (("cold", "make all, cold (median)", MAKE_ALL_COLD),
                               ("cached", "make all, nothing changed (median)", MAKE_ALL_CACHED)):
         t = ma[key]["median_wall"] if ma else None
         out.append(Target(what, "s", t, target, False, f"make_all.{key}.median_wall", _met(t, target, False)))
+    return out
+
+
+def _auto_us(report: dict[str, Any], model: str) -> float | None:
+    """Our µs per scene in a batch through ``auto``: the inverse of the throughput the report measured."""
+    m = next((m for m in report.get("models", []) if m["model"] == model), None)
+    auto = next((r for r in m["paths"] if r["path"] == "auto"), None) if m else None
+    return 1e6 / auto["scenes_per_second"] if auto and auto["scenes_per_second"] > 0 else None
+
+
+def _pooltool_rows(report: dict[str, Any]) -> list[Target]:
+    """pooltool's default model's time per collision over ours per scene (a batch through ``auto``), for each
+    interaction ``pooltool_side`` timed; "not measured" where pooltool is not installed or a figure is missing."""
+    from .pooltool_side import INTERACTIONS
+
+    pt = report.get("pooltool") or {}
+    out = []
+    for interaction, (ours, what, _) in INTERACTIONS.items():
+        models = (pt.get("interactions") or {}).get(interaction, {}).get("models", [])
+        default = next((m for m in models if m["default"]), None)
+        theirs, mine = (default or {}).get("us_per_collision"), _auto_us(report, ours)
+        ratio = theirs / mine if theirs is not None and mine is not None else None
+        model = default["model"] if default else "its default model"
+        out.append(Target(f"pooltool ÷ ours: {what}", "×", ratio, POOLTOOL_TARGET, True,
+                          f"pooltool.interactions[{interaction}] ({model}, µs per collision) over "
+                          f"1/models[{ours}].auto.scenes_per_second (µs per scene)",
+                          _met(ratio, POOLTOOL_TARGET, True)))
     return out
 
 
@@ -134,8 +149,27 @@ def terminal_lines(targets: list[dict[str, Any]], cal: dict[str, float] | None) 
     return out
 
 
-def to_markdown(targets: list[dict[str, Any]], cal: dict[str, float] | None, pooltool: str | None) -> list[str]:
-    """bench.md's section of the targets, the calibration and pooltool's status."""
+def pooltool_markdown(pooltool: dict[str, Any] | None) -> list[str]:
+    """bench.md's lines on pooltool: each of its models timed per collision, or why there is no column."""
+    if not pooltool:
+        return ["pooltool is not installed here (optional, never a dependency): no side-by-side column. With "
+                "pooltool in the same environment, `resal bench` times its collisions beside ours."]
+    lines = [f"pooltool {pooltool['version']}, in this process, per collision (the fastest of {pooltool['repeat']}, "
+             "each on fresh copies; its first call apart: numba compiles on first use):", "",
+             "| interaction | our model | pooltool's model | µs per collision | first call (s) |",
+             "|---|---|---|---|---|"]
+    for inter in pooltool["interactions"].values():
+        for m in inter["models"]:
+            name = f"{m['model']} (its default)" if m["default"] else m["model"]
+            us = "—" if m["us_per_collision"] is None else f"{m['us_per_collision']:.3g}"
+            first = "—" if m["first_call_s"] is None else f"{m['first_call_s']:.3g}"
+            lines.append(f"| {inter['what']} | {inter['ours']} | {name} | {us} | {first} |")
+    return lines
+
+
+def to_markdown(targets: list[dict[str, Any]], cal: dict[str, float] | None,
+                pooltool: dict[str, Any] | None) -> list[str]:
+    """bench.md's section of the targets, the calibration and pooltool's column (``pooltool_markdown``)."""
     lines = ["## Issue 34's targets, as measured here", "",
              "| what | now | target | met |", "|---|---|---|---|"]
     for t in targets:
@@ -147,8 +181,6 @@ def to_markdown(targets: list[dict[str, Any]], cal: dict[str, float] | None, poo
                      f"{cal['python_ns_per_iteration']:.1f} ns per iteration; numpy's a·b + c "
                      f"{cal['numpy_ns_per_element']:.2f} ns per element (scale a figure from another machine by "
                      "the ratio of these before comparing it).")
-    lines.append(f"pooltool {pooltool} is installed, but the side-by-side pooltool column is not built yet."
-                 if pooltool else "pooltool is not installed (optional, never a dependency); the side-by-side "
-                 "pooltool column is not built yet.")
+    lines += pooltool_markdown(pooltool)
     lines.append("")
     return lines

@@ -14,6 +14,7 @@ LAYERS = {
     "reproductions.results": 3, "reproductions.experiments": 4, "reproductions.api": 5,
     "reproductions.report": 5, "reproductions.digest": 5, "reproductions.locate": 0, "reproductions.processes": 0,
     "reproductions.sweep": 0,  # the executors of stress and bench: standard library and processes only
+    "reproductions.pooltool_side": 0,  # pooltool timed beside us where installed: standard library (pooltool lazily)
     "reproductions.targets": 0,  # issue 34's table read from a bench report: standard library (numpy to calibrate)
     "reproductions.startup": 0, "reproductions.diffing": 0, "reproductions.lazy": 0,
     "reproductions.edition.model": 3, "reproductions.edition": 6,

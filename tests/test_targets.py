@@ -43,7 +43,7 @@ def test_a_figure_the_report_does_not_hold_is_not_measured_never_met() -> None:
     lines = targets.to_markdown([t.as_dict() for t in got.values()], None, None)
     table = [ln for ln in lines if ln.startswith("| ") and not ln.startswith("| what")]
     assert len(table) == len(got)
-    assert sum("not measured" in ln for ln in table) == 9  # 7 single scenes absent, and make all twice
+    assert sum("not measured" in ln for ln in table) == 11  # 7 single scenes, pooltool twice, make all twice
     assert not any("yes" in ln for ln in table if "not measured" in ln)
 
 
@@ -65,3 +65,49 @@ def test_the_terminal_table_fits_80_columns_with_every_figure() -> None:
     for shown in ("12.3 µs", "1.23e+03 µs", "9.88e+05 scenes/s", "4.2e-13", "13.2 s", "0.61 s", "41.2 ns"):
         assert shown in body, shown
     assert len(lines) == 2 + len(ts) + 1  # header, rule, one line per figure, the calibration
+
+
+def _with_pooltool(rep: dict, bb_us: float | None, cushion_us: float, cushion_rate: float) -> dict:
+    """A report with pooltool's figures (as ``pooltool_side.measure`` gives them) and cushion-impact's batch."""
+    rep["models"].append({"model": "cushion-impact", "paths": [
+        {"path": "auto", "scenes_timed": 100_000, "scenes_per_second": cushion_rate, "where_exact": {}}]})
+    rep["pooltool"] = {"version": "0.6.0", "repeat": 10, "interactions": {
+        "ball_ball": {"ours": "spheres-cloth", "what": "ball–ball", "models": [
+            {"model": "Other", "default": False, "us_per_collision": 1.0, "first_call_s": 0.1},
+            {"model": "FrictionalInelastic", "default": True, "us_per_collision": bb_us, "first_call_s": 9.5}]},
+        "ball_linear_cushion": {"ours": "cushion-impact", "what": "cushion", "models": [
+            {"model": "Stronge", "default": True, "us_per_collision": cushion_us, "first_call_s": 0.05},
+            {"model": "NeedsArgs", "default": False, "us_per_collision": None, "first_call_s": None,
+             "why": "needs arguments pooltool has no default for"}]}}}
+    return rep
+
+
+def test_pooltool_rows_divide_its_default_model_by_our_batch_per_scene() -> None:
+    """pooltool's default model (not its fastest) per collision over our µs per scene through auto: 40 µs against
+    5e5 scenes/s (2 µs) is 20×, short of 100×; 500 µs against 1e7 scenes/s (0.1 µs) is 5000×."""
+    rep = _with_pooltool(_report({}, rate=5e5, err=0.0, make_all=None), 40.0, 500.0, 1e7)
+    got = {t.what: t for t in targets.rows(rep)}
+    bb, cu = got["pooltool ÷ ours: ball–ball"], got["pooltool ÷ ours: cushion"]
+    assert math.isclose(bb.now, 20.0) and bb.met is False and "FrictionalInelastic" in bb.source
+    assert math.isclose(cu.now, 5000.0) and cu.met is True
+    lines = targets.to_markdown([t.as_dict() for t in got.values()], None, rep["pooltool"])
+    assert "| ball–ball | spheres-cloth | FrictionalInelastic (its default) | 40 | 9.5 |" in lines
+    assert "| cushion | cushion-impact | NeedsArgs | — | — |" in lines
+    assert max(len(ln) for ln in targets.terminal_lines([t.as_dict() for t in got.values()], None)) <= 80
+
+
+def test_a_pooltool_figure_missing_is_not_measured_and_pooltool_absent_is_said() -> None:
+    rep = _with_pooltool(_report({}, rate=5e5, err=0.0, make_all=None), None, 500.0, 1e7)
+    got = {t.what: t for t in targets.rows(rep)}
+    assert (got["pooltool ÷ ours: ball–ball"].now, got["pooltool ÷ ours: ball–ball"].met) == (None, None)
+    assert any("pooltool is not installed here" in ln for ln in targets.to_markdown([], None, None))
+
+
+def test_pooltool_is_measured_only_where_it_is_installed(monkeypatch) -> None:
+    import importlib.util
+
+    from reproductions import pooltool_side
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "pooltool" else real(name, *a))
+    assert pooltool_side.measure(repeat=1) is None and pooltool_side.version() is None
