@@ -42,10 +42,13 @@ from numpy.typing import ArrayLike
 __all__ = ["CueStroke", "ball_point_velocity", "contact_point", "cue_axis", "cue_moment", "cue_stroke", "miscue_angle",
            "stroke_per_impulse"]
 
-from .paths import PathCode, Regime, as_floats, batch_arrays, codes, pick
+from .paths import PathCode, Regime, as_floats, batch_arrays, codes, maximum, pick, result
 
 METHODS = ("exact", "resal")
 _REGIMES = np.array([Regime.GRIP, Regime.SLIDE], dtype=np.int8)  # by whether the ball slides on the cloth
+_GRIP, _SLIDE = _REGIMES  # (numpy's int8: one scene's regime, chosen with ``pick``)
+_CODES = {m: PathCode[m.upper()] for m in METHODS}
+_ZERO = np.float64(0.0)
 
 
 @dataclass(frozen=True)
@@ -72,7 +75,7 @@ class CueStroke:
 def contact_point(b: ArrayLike, c: ArrayLike, R: ArrayLike) -> np.ndarray:
     """a of the contact point (a, b, c) on the back of the ball: a = −√(R² − b² − c²)."""
     b, c, R = as_floats(b, c, R)
-    return -np.sqrt(np.maximum(R * R - b * b - c * c, 0.0))
+    return -np.sqrt(maximum(R * R - b * b - c * c, _ZERO))
 
 
 def miscue_angle(f_tip: ArrayLike) -> np.ndarray:
@@ -83,38 +86,41 @@ def miscue_angle(f_tip: ArrayLike) -> np.ndarray:
 def stroke_per_impulse(i: ArrayLike, b: ArrayLike, c: ArrayLike, *, R: ArrayLike, k: ArrayLike, f: ArrayLike,
                        M: ArrayLike, method: str = "exact") -> dict[str, np.ndarray]:
     """Velocity, rotation and slip of the ball per unit cue impulse P (eqs 3, 5, 7), arrays over the batch."""
-    per = _per_impulse(i, b, c, R=R, k=k, f=f, M=M, method=method)
+    per = _per_impulse(i, b, c, R=R, k=k, f=f, M=M, method=method, slip=True)
     return {"a": per["a"], "v": np.stack(per["v"]), "w": np.stack(per["w"]), "u": np.stack(per["u"]),
             "gamma": per["gamma"], "slides": per["slides"], "cos_phi": per["cos_phi"], "d_K_d": per["d_K_d"]}
 
 
 def _per_impulse(i: ArrayLike, b: ArrayLike, c: ArrayLike, *, R: ArrayLike, k: ArrayLike, f: ArrayLike,
-                 M: ArrayLike, method: str) -> dict[str, Any]:
+                 M: ArrayLike, method: str, slip: bool = False) -> dict[str, Any]:
     """``stroke_per_impulse`` with the vectors as tuples of their components (eqs 3, 5, 7), which ``cue_stroke``
-    reads without stacking them; the products of vectors written out as ``np.cross`` computes them."""
+    reads without stacking them; the products of vectors written out as ``np.cross`` computes them. The slip on
+    the cloth per unit P (``u``, eq. 7), which ``cue_stroke`` does not read, only with ``slip``."""
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     i, b, c, R, k, f, M = batch_arrays(i, b, c, R, k, f, M)
     a = contact_point(b, c, R)
     si, ci = np.sin(i), np.cos(i)
-    tau = (-b * si, c * ci + (0.0 if method == "resal" else a * si), -b * ci)  # the moment of F about C, eq. (2)
+    # the moment of F about C, eq. (2): (tx, ty, tz)
+    tx, ty, tz = -b * si, c * ci + (0.0 if method == "resal" else a * si), -b * ci
     kR = k / R
-    D = (ci - kR * tau[1], kR * tau[0])
-    Dn = np.hypot(D[0], D[1])
+    Dx, Dy = ci - kR * ty, kR * tx
+    Dn = np.hypot(Dx, Dy)
     safe = pick(Dn > 0, Dn, 1.0)
     fric = f * si
-    slides = Dn > (1 + k) * fric
-    jn = pick(slides, fric, Dn / (1 + k))
-    j = (jn * (D[0] / safe), jn * (D[1] / safe))  # the cloth's friction impulse per unit P
-    v = ((ci - j[0]) / M, -j[1] / M)
-    zero = np.zeros_like(j[0])
+    k1 = 1 + k
+    slides = Dn > k1 * fric
+    jn = pick(slides, fric, Dn / k1)
+    jx, jy = jn * (Dx / safe), jn * (Dy / safe)  # the cloth's friction impulse per unit P
+    vx, vy = (ci - jx) / M, -jy / M
+    zero = 0.0  # the zero components of (v, 0) and d: a number, which broadcasts as np.zeros_like(jx) would
     kI = k / (M * R * R)
-    w = (kI * (tau[0] + R * -j[1]), kI * (tau[1] + R * j[0]), kI * (tau[2] + R * zero))
-    u = ((D[0] - (1 + k) * j[0]) / M, (D[1] - (1 + k) * j[1]) / M)
+    wx, wy, wz = kI * (tx + R * -jy), kI * (ty + R * jx), kI * (tz + R * zero)
+    u = ((Dx - k1 * jx) / M, (Dy - k1 * jy) / M) if slip else None
     # velocity of the ball's point of contact with the cue per unit P, (v, 0) + w × (a, b, c), along d
-    contact = (v[0] + (w[1] * c - w[2] * b), v[1] + (w[2] * a - w[0] * c), zero + (w[0] * b - w[1] * a))
-    d_K_d = contact[0] * ci + contact[1] * zero + contact[2] * -si
-    return {"a": a, "v": v, "w": w, "u": u, "gamma": np.arctan2(D[1], D[0]), "slides": slides,
+    cx, cy, cz = vx + (wy * c - wz * b), vy + (wz * a - wx * c), zero + (wx * b - wy * a)
+    d_K_d = cx * ci + cy * zero + cz * -si
+    return {"a": a, "v": (vx, vy), "w": (wx, wy, wz), "u": u, "gamma": np.arctan2(Dy, Dx), "slides": slides,
             "cos_phi": -(a * ci - c * si) / R, "d_K_d": d_K_d}
 
 
@@ -125,12 +131,12 @@ def cue_stroke(M: ArrayLike, Mp: ArrayLike, V0p: ArrayLike, i: ArrayLike, b: Arr
     path = method
     per = _per_impulse(i, b, c, R=R, k=k, f=f, M=M, method=path)
     M, Mp, V0p, R, k, eps, epsp = batch_arrays(M, Mp, V0p, R, k, eps, epsp)
-    v, w = per["v"], per["w"]
+    (vx, vy), (wx, wy, wz) = per["v"], per["w"]
     # the ball's vis viva per P² (x * x: what numpy computes for x**2)
-    Q = M * (v[0] * v[0] + v[1] * v[1]) + (M * R * R / k) * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+    Q = M * (vx * vx + vy * vy) + (M * R * R / k) * (wx * wx + wy * wy + wz * wz)
     A = 1.0 + Mp * Q
     if path == "resal":  # eq. (12): equal velocities along the normal at the greatest compression
-        n_hat_dot_v = (per["a"] * v[0] + np.asarray(b, dtype=float) * v[1]) / R
+        n_hat_dot_v = (per["a"] * vx + np.asarray(b, dtype=float) * vy) / R
         omega = V0p * per["cos_phi"] / (per["cos_phi"] - Mp * n_hat_dot_v)
     else:  # equal velocities along the line of the impulse (the cue axis d)
         omega = V0p / (1.0 + Mp * per["d_K_d"])
@@ -139,10 +145,10 @@ def cue_stroke(M: ArrayLike, Mp: ArrayLike, V0p: ArrayLike, i: ArrayLike, b: Arr
     label = ("Résal's eqs (2)-(12) as printed (moment about Cy without a sin i; compression ended along the "
              "normal)" if path == "resal" else
              "closed form, §VII eqs (2)-(10) with the full moment of F, compression ended along the cue axis")
-    regime = np.asarray(_REGIMES[per["slides"].astype(np.intp)])
-    return CueStroke(chi1=P * v[0], eta1=P * v[1], n1=P * w[0], p1=P * w[1], q1=P * w[2], V1p=V0p - omega1,
-                     omega1=omega1, omega=omega, A=A, gamma=per["gamma"], cos_phi=per["cos_phi"], method=method,
-                     path=codes(np.shape(omega1), PathCode[method.upper()]), regime=regime, label=label)
+    regime = np.asarray(pick(per["slides"], _SLIDE, _GRIP))
+    return result(CueStroke, chi1=P * vx, eta1=P * vy, n1=P * wx, p1=P * wy, q1=P * wz, V1p=V0p - omega1,
+                  omega1=omega1, omega=omega, A=A, gamma=per["gamma"], cos_phi=per["cos_phi"], method=method,
+                  path=codes(omega1.shape, _CODES[method]), regime=regime, label=label)
 
 
 def cue_axis(i: ArrayLike) -> np.ndarray:

@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike
 
 from .budget import bounded, check
 from .impact import nu_from_eps
-from .paths import PathCode, Regime, batch_arrays, codes, every, pick
+from .paths import PathCode, Regime, as_floats, batch_arrays, codes, every, maximum, pick, result
 from .slip import slip_decay
 
 __all__ = ["METHODS", "CushionImpact", "cushion_impact", "elementary_applies"]
@@ -46,6 +46,8 @@ METHODS = ("exact", "elementary", "resal", "resal-corrected", "ode")
 _CODES = {"exact": PathCode.EXACT, "elementary": PathCode.ELEMENTARY, "resal": PathCode.RESAL,
           "resal-corrected": PathCode.RESAL_CORRECTED, "ode": PathCode.ODE}
 _REGIMES = np.array([Regime.NO_SLIP, Regime.SLIDE, Regime.GRIP], dtype=np.int8)  # no slip, slips, slip stops
+_NO_SLIP, _SLIDE, _GRIP = _REGIMES  # (numpy's int8: one scene's regime, chosen with ``pick``)
+_ZERO = np.float64(0.0)
 
 
 @dataclass(frozen=True)
@@ -65,15 +67,15 @@ class CushionImpact:
 def elementary_applies(chi0: ArrayLike, p0: ArrayLike, n0: ArrayLike, R: ArrayLike, j: ArrayLike) -> np.ndarray:
     """Where the slip keeps its direction and the elementary closed form is exact: n0 = 0 (no rotation about the
     cushion's direction), φ0 = χ0 − p0R = 0 (no slip along the cushion) or j = 0 (no friction)."""
-    chi0, p0, n0, R, j = (np.asarray(a, dtype=float) for a in (chi0, p0, n0, R, j))
+    chi0, p0, n0, R, j = as_floats(chi0, p0, n0, R, j)
     return (n0 == 0) | (chi0 - p0 * R == 0) | (j == 0)
 
 
 def _elementary(phi0: np.ndarray, psi0: np.ndarray, k: np.ndarray, budget: np.ndarray) -> tuple[np.ndarray, ...]:
     """One slip component only (the module docstring's special cases): it falls linearly in π until it stops,
     at the rate j(1 + k) along the cushion (ψ0 = 0) or jk across it (φ0 = 0)."""
-    f1 = pick(psi0 == 0, np.maximum(phi0 - (1 + k) * budget, 0.0), phi0)
-    s1 = pick(phi0 == 0, np.maximum(psi0 - k * budget, 0.0), psi0)
+    f1 = pick(psi0 == 0, maximum(phi0 - (1 + k) * budget, _ZERO), phi0)
+    s1 = pick(phi0 == 0, maximum(psi0 - k * budget, _ZERO), psi0)
     return f1, s1
 
 
@@ -191,9 +193,9 @@ def cushion_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, n0: ArrayLi
     phi1, psi1 = sphi * f1, spsi * s1
     chi1 = (k * chi0 + p0 * R + phi1) / (1 + k)  # eq. (9)
     moving = (f0 > 0) | (s0 > 0)
-    regime = np.asarray(_REGIMES[moving.astype(np.intp) + (moving & (f1 == 0) & (s1 == 0))])  # none, slides, stops
-    return CushionImpact(chi1=chi1, zeta1=nu * a, p1=(chi1 - phi1) / R, n1=psi1 / R, method=method,
-                         path=codes(np.shape(chi1), _CODES[method]), regime=regime, label=label)
+    regime = np.asarray(pick(moving, pick((f1 == 0) & (s1 == 0), _GRIP, _SLIDE), _NO_SLIP))  # slides, stops; none
+    return result(CushionImpact, chi1=chi1, zeta1=nu * a, p1=(chi1 - phi1) / R, n1=psi1 / R, method=method,
+                  path=codes(chi1.shape, _CODES[method]), regime=regime, label=label)
 
 
 # ---- §IV n°11, the paper's steps checked one by one (issue 13) ---------------------------------------------

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .paths import PathCode, Regime, as_floats, batch_arrays, codes
+from .paths import PathCode, Regime, as_floats, batch_arrays, codes, result
 
 __all__ = [
     "DirectImpact",
@@ -98,19 +98,19 @@ def direct_impact(
     V1 = V0 - delta
     V1p = V0p + (M / Mp) * delta
     lost = M * (V0 * V0 - V1 * V1) + Mp * (V0p * V0p - V1p * V1p)  # x * x: what numpy computes for x**2
-    shape = np.shape(V1)
-    return DirectImpact(V1=V1, V1p=V1p, newton_e=_newton(M, Mp, eps, epsp, D), vis_viva_lost=lost,
-                        method="exact", path=codes(shape, PathCode.EXACT),
-                        regime=codes(shape, Regime.FRICTIONLESS), label="closed form, §I eq. (7)")
+    shape = V1.shape
+    return result(DirectImpact, V1=V1, V1p=V1p, newton_e=_newton(M, Mp, eps, epsp, D), vis_viva_lost=lost,
+                  method="exact", path=codes(shape, PathCode.EXACT), regime=codes(shape, Regime.FRICTIONLESS),
+                  label="closed form, §I eq. (7)")
 
 
 def wall_impact(V0: ArrayLike, *, eps: ArrayLike) -> WallImpact:
     """Impact on an immovable mass, eq. (9) §I n°5, as a result of the shared convention."""
     V0, eps = batch_arrays(V0, eps)
     r = velocity_ratio_from_eps(eps)
-    shape = np.shape(V0)
-    return WallImpact(V1=-r * V0, ratio=r, method="exact", path=codes(shape, PathCode.EXACT),
-                      regime=codes(shape, Regime.FRICTIONLESS), label="closed form, §I eq. (9)")
+    shape = V0.shape
+    return result(WallImpact, V1=-r * V0, ratio=r, method="exact", path=codes(shape, PathCode.EXACT),
+                  regime=codes(shape, Regime.FRICTIONLESS), label="closed form, §I eq. (9)")
 
 
 def infinite_mass_impact(V0: ArrayLike, *, eps: ArrayLike) -> np.ndarray:

@@ -25,7 +25,8 @@ from typing import Any
 import numpy as np
 
 __all__ = ["ONES", "ImpactCheck", "Kind", "Model", "Param", "Path", "PathCode", "PathError", "Regime", "always",
-           "as_floats", "auto_by_masks", "batch_arrays", "by_route", "codes", "every", "pick", "solve"]
+           "as_floats", "auto_by_masks", "batch_arrays", "by_route", "codes", "every", "maximum", "minimum", "pick",
+           "result", "solve"]
 
 Scene = Mapping[str, np.ndarray]
 
@@ -61,9 +62,29 @@ class Regime(IntEnum):
     NO_SLIP = 3  # no slip to begin with
 
 
+_INT8 = {c: np.int8(c) for c in range(8)}  # the codes as numpy's int8, for ``codes`` of one scene
+
+
 def codes(shape: tuple[int, ...], code: int) -> np.ndarray:
-    """A per-scene array of one path or regime code."""
+    """A per-scene array of one path or regime code (one scene, shape (): the same array, a new one, without
+    ``np.full``'s fixed cost)."""
+    if shape == ():
+        try:
+            one = _INT8.get(code)
+        except TypeError:  # (an unhashable code: an array of one number)
+            one = None
+        if one is not None:
+            return np.asarray(one)
     return np.full(shape, int(code), dtype=np.int8)
+
+
+def result(kind: type[Any], **fields: Any) -> Any:
+    """``kind(**fields)`` for a frozen result dataclass given every field by name, in its order: the object its
+    ``__init__`` makes (the same ``__dict__``), without the cost of setting each field through the frozen
+    ``object.__setattr__`` (a tenth of the time of a closed form on one scene). Tests check the fields."""
+    out = object.__new__(kind)
+    out.__dict__.update(fields)
+    return out
 
 
 def every(mask: np.ndarray) -> bool:
@@ -76,6 +97,9 @@ def _some(mask: np.ndarray) -> bool:
     return bool(mask.item()) if mask.size == 1 else bool(mask.any())
 
 
+_F64, _BOOL, _NDARRAY = np.float64, np.bool_, np.ndarray
+
+
 def batch_arrays(*xs: Any) -> list[Any]:
     """The arguments as float arrays of one broadcast shape (``np.broadcast_arrays``). Float arrays that already
     share one shape, as ``Model.scene`` gives them, pass as they are, without its fixed cost; so do numpy floats
@@ -83,8 +107,11 @@ def batch_arrays(*xs: Any) -> list[Any]:
     (numpy's operations on them are the ones its arrays use, at a fifth of the cost)."""
     first = xs[0]
     cls = first.__class__
-    if cls is np.float64:
-        if all(x.__class__ is np.float64 for x in xs):
+    if cls is _F64:
+        for x in xs:  # (a loop: cheaper than ``all`` over a generator, on the single-scene route)
+            if x.__class__ is not _F64:
+                break
+        else:
             return list(xs)
     elif cls is np.ndarray and first.dtype == np.float64:
         shape = first.shape
@@ -96,14 +123,32 @@ def batch_arrays(*xs: Any) -> list[Any]:
 def as_floats(*xs: Any) -> list[Any]:
     """``np.asarray(x, dtype=float)`` of each argument (no broadcasting), numpy floats passing as they are (see
     ``batch_arrays``)."""
-    return [x if x.__class__ is np.float64 else np.asarray(x, dtype=float) for x in xs]
+    for x in xs:
+        if x.__class__ is not _F64:
+            return [x if x.__class__ is _F64 else np.asarray(x, dtype=float) for x in xs]
+    return list(xs)
 
 
 def pick(cond: Any, a: Any, b: Any) -> Any:
     """``np.where(cond, a, b)``; for one scene as numpy scalars, the chosen value itself (the same number)."""
-    if cond.__class__ is np.bool_ and a.__class__ is not np.ndarray and b.__class__ is not np.ndarray:
+    if cond.__class__ is _BOOL and a.__class__ is not _NDARRAY and b.__class__ is not _NDARRAY:
         return a if cond else b
     return np.where(cond, a, b)
+
+
+def maximum(a: Any, b: Any) -> Any:
+    """``np.maximum(a, b)``; for two numpy floats, numpy's own choice without the ufunc's fixed cost: ``a`` where
+    a > b or ``a`` is nan, else ``b`` (so ``b`` on a tie of ±0, and nan from either side, as its loop gives it)."""
+    if a.__class__ is _F64 and b.__class__ is _F64:
+        return a if (a > b or a != a) else b
+    return np.maximum(a, b)
+
+
+def minimum(a: Any, b: Any) -> Any:
+    """``np.minimum(a, b)``, as ``maximum``: ``a`` where a < b or ``a`` is nan, else ``b``."""
+    if a.__class__ is _F64 and b.__class__ is _F64:
+        return a if (a < b or a != a) else b
+    return np.minimum(a, b)
 
 
 class PathError(ValueError):
@@ -173,8 +218,9 @@ class Path:
     handles_text: str = "every scene"
     # ``run`` and the predicates also take one scene as numpy floats (``np.float64``, vectors as arrays) and give
     # numpy scalars: ``solve`` then runs a single scene so (``_run_one``), with the numbers of the array route.
-    # Such code converts with ``batch_arrays``/``as_floats``, chooses with ``pick`` and writes x * x, never x**2:
-    # numpy's scalar power calls the C library's pow, its arrays square or their own pow (tests/test_small_batch.py)
+    # Such code converts with ``batch_arrays``/``as_floats``, chooses with ``pick`` (``maximum``, ``minimum``),
+    # assembles its result with ``result`` and writes x * x, never x**2: numpy's scalar power calls the C library's
+    # pow, its arrays square or their own pow (tests/test_small_batch.py)
     scalar: bool = False
     # ODE paths: the same integration at another tolerance and scipy solver (work-precision runs), and the
     # tolerance and solver that ``run`` uses
@@ -273,6 +319,19 @@ class Model:
             unknown = [k for k in values if k not in plan.names]
             raise PathError(f"{self.name} has no parameter {', '.join(unknown)}")
         raw = {k: (np.asarray(values[k], dtype=float) if k in values else d) for k, d in plan.defaults.items()}
+        if plan.plain:  # numbers only, every default of shape (): one scene if every value given is a number
+            for k in values:
+                if raw[k].shape != ():
+                    break
+            else:  # the loop below would keep every array as it is
+                out = {ONES: plan.ones}
+                out.update(raw)
+                for k, v in values.items():
+                    if raw[k] is v:  # the caller's own array: a read-only view of it, as below
+                        a = v.view()
+                        a.flags.writeable = False
+                        out[k] = a
+                return out
         shapes = {a.shape[:-1] if k in self.vectors else a.shape for k, a in raw.items() if k not in self.static}
         batch = shapes.pop() if len(shapes) == 1 else np.broadcast_shapes(*shapes)
         out = {ONES: plan.ones if batch == () else np.ones(batch, dtype=bool)}
@@ -313,6 +372,9 @@ class _Plan:
         self.ones = np.ones((), dtype=bool)
         self.ones.flags.writeable = False
         self.order = tuple(sorted(model.paths, key=lambda q: q.cost))  # stable: declared order breaks ties
+        # no static or vector parameter, and every default one number (shape ()): ``Model.scene``'s short route
+        self.plain = not self.static and not self.vectors and all(d is None or d.shape == ()
+                                                                  for d in self.defaults.values())
 
 
 def _take(model: Model, scene: Scene, mask: np.ndarray) -> dict[str, np.ndarray]:
@@ -336,12 +398,15 @@ def solve(model: Model, scene: Scene, method: str = "auto") -> Any:
     one = None
     if method == "auto":
         first = model._plan.order[0]
-        batch = np.shape(scene[ONES])
+        ones = scene[ONES]
+        batch = ones.shape if ones.__class__ is np.ndarray else np.shape(ones)
         if first.scalar and batch in ((), (1,)):  # one scene, and a path that takes it as numpy floats
             one = _one(model, scene)
-    ok = np.asarray(model.admissible(scene if one is None else one), dtype=bool)
-    if not every(ok):
-        raise PathError(f"{model.name}: {int((~ok).sum())} scene(s) outside the model: {model.admissible_text}")
+    ok = model.admissible(scene if one is None else one)
+    if not (ok.__class__ is np.bool_ and ok):  # (one scene admitted: a numpy bool, True)
+        ok = np.asarray(ok, dtype=bool)
+        if not every(ok):
+            raise PathError(f"{model.name}: {int((~ok).sum())} scene(s) outside the model: {model.admissible_text}")
     if method != "auto":
         p = model.path(method)
         if p.handles is not always:
@@ -351,6 +416,8 @@ def solve(model: Model, scene: Scene, method: str = "auto") -> Any:
                                 f"{int((~handled).sum())} scene(s) are outside it")
         return p.run(scene)
     if one is not None:
+        if first.handles is always and first.exact_when is always:  # (``_selection`` gives None)
+            return _run_one(first, one, batch)
         sel = _selection(first, one)
         if sel is None or every(sel):
             return _run_one(first, one, batch)
@@ -364,7 +431,10 @@ def solve(model: Model, scene: Scene, method: str = "auto") -> Any:
 def _one(model: Model, scene: Scene) -> dict[str, Any]:
     """A scene of one, its numbers as numpy floats (vectors as arrays of 3, static parameters as given)."""
     plan = model._plan
-    return {k: (a if k in plan.static else a.reshape(3) if k in plan.vectors else a[()] if a.ndim == 0 else a[0])
+    static, vectors = plan.static, plan.vectors
+    if not static and not vectors:
+        return {k: (a[()] if a.ndim == 0 else a[0]) for k, a in scene.items()}
+    return {k: (a if k in static else a.reshape(3) if k in vectors else a[()] if a.ndim == 0 else a[0])
             for k, a in scene.items()}
 
 
@@ -372,16 +442,19 @@ def _run_one(p: Path, one: dict[str, Any], batch: tuple[int, ...]) -> Any:
     """The result of ``auto`` where ``p`` serves a scene of one (``batch`` () or (1,)), run on its numpy floats:
     its outputs as arrays of the batch shape, as the array route gives them."""
     res = p.run(one)
-    values = dict(res.__dict__)
+    values = res.__dict__.copy()
     if batch:
         for name, v in values.items():
-            if isinstance(v, (np.ndarray, np.generic)):
-                v = v if v.__class__ is np.ndarray else np.asarray(v)
+            cls = v.__class__
+            if cls is np.ndarray or (cls is not str and isinstance(v, (np.ndarray, np.generic))):
+                v = v if cls is np.ndarray else np.asarray(v)
                 values[name] = v.reshape((*batch, *v.shape))  # (a vector per scene: its own axis last)
     else:
+        f64, ndarray, asarray = _F64, np.ndarray, np.asarray
         for name, v in values.items():
-            if isinstance(v, np.generic):
-                values[name] = np.asarray(v)
+            cls = v.__class__
+            if cls is f64 or (cls is not ndarray and cls is not str and isinstance(v, np.generic)):
+                values[name] = asarray(v)
     values["method"] = "auto"
     values["label"] = f"auto: 1 by {res.label}"
     out = object.__new__(type(res))  # a frozen dataclass: its fields set as its own __init__ sets them

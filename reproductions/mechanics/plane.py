@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .paths import PathCode, Regime, as_floats, codes
+from .paths import PathCode, Regime, as_floats, codes, minimum, pick, result
 
 __all__ = [
     "PlaneImpact",
@@ -49,6 +49,7 @@ __all__ = [
 METHODS = ("exact", "resal")
 _LABELS = {"resal": "Résal's eqs (6), §III n°8 (sliding assumed)",
            "exact": "closed form, both regimes (slide / slip stops then rolls)"}
+_CODES = {m: PathCode[m.upper()] for m in METHODS}
 
 
 @dataclass(frozen=True)
@@ -69,8 +70,9 @@ _NO_SLIP, _SLIDE, _GRIP = (np.int8(r) for r in (Regime.NO_SLIP, Regime.SLIDE, Re
 
 
 def plane_regime(v0: np.ndarray, sliding: np.ndarray) -> np.ndarray:
-    """The ``Regime`` of a plane impact from the initial slip and the slide condition (int8)."""
-    return np.where(v0 == 0, _NO_SLIP, np.where(sliding, _SLIDE, _GRIP))
+    """The ``Regime`` of a plane impact from the initial slip and the slide condition (int8; one scene as numpy
+    floats: numpy's int8)."""
+    return pick(v0 == 0, _NO_SLIP, pick(sliding, _SLIDE, _GRIP))
 
 
 def _arrays(*args: ArrayLike) -> list[np.ndarray]:
@@ -96,9 +98,11 @@ def plane_impact(chi0: ArrayLike, zeta0: ArrayLike, p0: ArrayLike, *, R: ArrayLi
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     chi0, zeta0, p0, R, k, f, nu = _arrays(chi0, zeta0, p0, R, k, f, nu)
     chi1, zeta1, p1, v0, sliding = _impact(chi0, zeta0, p0, R, k, f, nu, method)
-    shape = np.shape(chi1)
-    return PlaneImpact(chi1=chi1, zeta1=zeta1, p1=p1, method=method, path=codes(shape, PathCode[method.upper()]),
-                       regime=plane_regime(np.broadcast_to(v0, shape), sliding), label=_LABELS[method])
+    shape = chi1.shape
+    if v0.shape != shape:
+        v0 = np.broadcast_to(v0, shape)
+    return result(PlaneImpact, chi1=chi1, zeta1=zeta1, p1=p1, method=method, path=codes(shape, _CODES[method]),
+                  regime=np.asarray(plane_regime(v0, sliding)), label=_LABELS[method])
 
 
 def _impact(chi0: np.ndarray, zeta0: np.ndarray, p0: np.ndarray, R: np.ndarray, k: np.ndarray, f: np.ndarray,
@@ -106,13 +110,14 @@ def _impact(chi0: np.ndarray, zeta0: np.ndarray, p0: np.ndarray, R: np.ndarray, 
     """The arithmetic of ``plane_impact`` on float arrays: (χ1, ζ1, p1, v_x0, sliding)."""
     v0 = chi0 - p0 * R
     budget = f * (1 + k) * (1 + nu) * np.abs(zeta0)  # the change of v_x that sliding friction can make
-    sliding = np.abs(v0) >= budget
+    size = np.abs(v0)
+    sliding = size >= budget
     if method == "resal":  # eqs (6): χ1 = χ0 + f(1 + ν)ζ0, p1R = p0R − fk(1 + ν)ζ0, for v_x0 > 0
         s = np.sign(v0)
         chi1 = chi0 + s * f * (1 + nu) * zeta0
         pR1 = p0 * R - s * f * k * (1 + nu) * zeta0
     else:
-        dv = -np.sign(v0) * np.minimum(np.abs(v0), budget)
+        dv = -np.sign(v0) * minimum(size, budget)
         chi1 = chi0 + dv / (1 + k)
         pR1 = p0 * R - k * dv / (1 + k)
     return chi1, -nu * zeta0, pR1 / R, v0, sliding

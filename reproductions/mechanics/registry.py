@@ -45,6 +45,17 @@ _K = Param("k", "1", "moment of inertia M R²/k (k = 5/2: a homogeneous ball)", 
 _G = Param("g", "m/s²", "gravity", 9.81, lo=0.0, lo_open=True)
 
 
+def _num(x: Any) -> Any:
+    """``np.asarray(x)``, a numpy float (one scene on the single-scene route of ``paths.solve``) passing as it is:
+    a comparison gives the same numpy bool of either, without the cost of a 0-d array's."""
+    return x if x.__class__ is np.float64 else np.asarray(x)
+
+
+def _everywhere(x: Any) -> Any:
+    """True per scene, of the shape of ``x`` (a numpy bool for a numpy float: one scene, as ``_num``)."""
+    return np.True_ if x.__class__ is np.float64 else np.ones(np.shape(x), bool)
+
+
 def _f(doc: str = "sliding friction coefficient") -> Param:
     return Param("f", "1", doc, None, lo=0.0)
 
@@ -546,7 +557,7 @@ def _cue_sample(rng: np.random.Generator, n: int) -> Scene:
 def _cue_admissible(s: Scene) -> np.ndarray:
     b, c, R, i = as_floats(s["b"], s["c"], s["R"], s["i"])
     inside = b * b + c * c < R * R
-    a = -np.sqrt(np.maximum(R * R - b * b - c * c, 0.0))
+    a = cue.contact_point(b, c, R)
     return inside & (-(a * np.cos(i) - c * np.sin(i)) / R > 0)
 
 
@@ -729,7 +740,7 @@ def _build() -> dict[str, Model]:
             Path(PathCode.ODE, Kind.ODE, _direct_ode, always, 1e-8, 1000,
                  "two-phase hysteretic contact integrated in time (DOP853)", tuned=_direct_ode, rtol=1e-10,
                  solver="DOP853"),
-        ), ("V1", "V1p"), lambda s: np.asarray(s["V0"]) > np.asarray(s["V0p"]),
+        ), ("V1", "V1p"), lambda s: _num(s["V0"]) > _num(s["V0p"]),
             "the bodies must approach (V0 > V′0): separating bodies do not collide",
             sample=_direct_sample, scale=lambda s: np.abs(np.asarray(s["V0"]) - np.asarray(s["V0p"])),
             vis_viva=lambda s, r: (s["M"] * s["V0"] ** 2 + s["Mp"] * s["V0p"] ** 2,
@@ -746,7 +757,7 @@ def _build() -> dict[str, Model]:
             Path(PathCode.EXACT, Kind.CLOSED_FORM, _wall_exact, always, 1e-13, 1, "closed form, eq. (9)", scalar=True),
             Path(PathCode.ODE, Kind.ODE, _wall_ode, always, 1e-8, 1000,
                  "two-phase contact against an immovable mass (DOP853)", tuned=_wall_ode, rtol=1e-10, solver="DOP853"),
-        ), ("V1",), lambda s: np.asarray(s["V0"]) > 0, "the ball must approach the mass (V0 > 0)",
+        ), ("V1",), lambda s: _num(s["V0"]) > 0, "the ball must approach the mass (V0 > 0)",
             sample=lambda rng, n: {"V0": rng.uniform(0.1, 5.0, n), "eps": rng.uniform(0.0, 1.0, n)},
             scale=lambda s: np.abs(np.asarray(s["V0"])),
             vis_viva=lambda s, r: (np.asarray(s["V0"]) ** 2, r.V1**2), impact=_wall_impact_check,
@@ -771,7 +782,7 @@ def _build() -> dict[str, Model]:
             Path(PathCode.REFERENCE, Kind.REFEREE, _plane_reference, always, 1e-9, 2000,
                  "referee: the six velocity components in the normal impulse (DOP853)", tuned=_plane_reference,
                  rtol=1e-13, solver="DOP853"),
-        ), ("chi1", "zeta1", "p1*R"), lambda s: np.asarray(s["zeta0"]) < 0,
+        ), ("chi1", "zeta1", "p1*R"), lambda s: _num(s["zeta0"]) < 0,
             "the sphere must approach the plane (ζ0 < 0)", sample=_plane_sample,
             scale=lambda s: np.hypot(s["chi0"], s["zeta0"]) + np.abs(s["p0"] * s["R"]), vis_viva=_plane_vis_viva,
             momentum=_about_contact,
@@ -808,7 +819,7 @@ def _build() -> dict[str, Model]:
                  scalar=True),
             Path(PathCode.ODE, Kind.ODE, _cloth_ode, always, 1e-8, 1000, "eqs (2) integrated in time (DOP853)",
                  tuned=_cloth_ode, rtol=1e-11, solver="DOP853"),
-        ), ("t_roll*g", "x_roll*g", "y_roll*g", "vx_roll", "vy_roll"), lambda s: np.ones(np.shape(s["vx"]), bool),
+        ), ("t_roll*g", "x_roll*g", "y_roll*g", "vx_roll", "vy_roll"), lambda s: _everywhere(s["vx"]),
             "every initial state", sample=_cloth_sample,
             scale=lambda s: 1 + np.hypot(s["vx"], s["vy"]) + np.hypot(s["wx"], s["wy"]) * s["R"],
             vis_viva=_cloth_vis_viva, momentum=_cloth_momentum, output_scale=_cloth_scales,
@@ -838,7 +849,7 @@ def _build() -> dict[str, Model]:
             Path(PathCode.REFERENCE, Kind.REFEREE, _cushion_reference, always, 1e-9, 2000,
                  "referee: every velocity component in the normal impulse, the cloth bilateral (DOP853)",
                  tuned=_cushion_reference, rtol=1e-13, solver="DOP853"),
-        ), ("chi1", "zeta1", "p1*R", "n1*R"), lambda s: np.asarray(s["zeta0"]) < 0,
+        ), ("chi1", "zeta1", "p1*R", "n1*R"), lambda s: _num(s["zeta0"]) < 0,
             "the ball must approach the cushion (ζ0 < 0)", sample=_cushion_sample,
             scale=lambda s: np.hypot(s["chi0"], s["zeta0"]) + np.hypot(s["p0"], s["n0"]) * s["R"],
             vis_viva=_cushion_vis_viva, momentum=_about_contact, mirror=lambda s: _flip(s, "chi0", "p0"),

@@ -67,7 +67,7 @@ def n1_times(models: Iterable[str] | None = None, repeat: int = 2000,
                "scene": _best(lambda m=m, v=v: m.scene(v), repeat),
                "solve": _best(lambda m=m, s=scene: paths.solve(m, s, "auto"), repeat),
                "run": _best(lambda p=p, s=flat: p.run(s), repeat),
-               "assembly": _best(lambda t=kind, f=fields: t(**f), repeat)}
+               "assembly": _best(lambda t=kind, f=fields: paths.result(t, **f), repeat)}
         row["dispatch"] = max(row["solve"] - row["run"], 0.0)
         row["physics"] = max(row["run"] - row["assembly"], 0.0)
         out[name] = row
