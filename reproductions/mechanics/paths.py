@@ -332,6 +332,23 @@ class Model:
                         a.flags.writeable = False
                         out[k] = a
                 return out
+        elif not plan.static:  # vectors: one scene if every value is a number, or 3 numbers for a vector
+            out = {ONES: plan.ones}
+            vectors = plan.vectors
+            for k, a in raw.items():  # as the loop below makes them for a batch of shape ()
+                shape = a.shape
+                if k in vectors and shape != (3,):
+                    if shape != ():
+                        break
+                    a = plan.vector_defaults[k] if k not in values else np.broadcast_to(a, (3,))  # read-only
+                elif k not in vectors and shape != ():
+                    break
+                elif a is values.get(k):  # the caller's own array: a read-only view of it
+                    a = a.view()
+                    a.flags.writeable = False
+                out[k] = a
+            else:
+                return out
         shapes = {a.shape[:-1] if k in self.vectors else a.shape for k, a in raw.items() if k not in self.static}
         batch = shapes.pop() if len(shapes) == 1 else np.broadcast_shapes(*shapes)
         out = {ONES: plan.ones if batch == () else np.ones(batch, dtype=bool)}
@@ -421,6 +438,9 @@ def solve(model: Model, scene: Scene, method: str = "auto") -> Any:
         sel = _selection(first, one)
         if sel is None or every(sel):
             return _run_one(first, one, batch)
+        later = _later_one(model, one, batch)
+        if later is not None:
+            return later
     batch, n, flat = _flatten(model, scene)
     sel = np.zeros(n, dtype=bool) if one is not None else _selection(first, flat) if n else None
     if n and (sel is None or every(sel)):
@@ -436,6 +456,21 @@ def _one(model: Model, scene: Scene) -> dict[str, Any]:
         return {k: (a[()] if a.ndim == 0 else a[0]) for k, a in scene.items()}
     return {k: (a if k in static else a.reshape(3) if k in vectors else a[()] if a.ndim == 0 else a[0])
             for k, a in scene.items()}
+
+
+def _later_one(model: Model, one: dict[str, Any], batch: tuple[int, ...]) -> Any:
+    """The general route's single scene that the cheapest path does not take, without batch arrays or masks: the
+    later paths in ``_auto_general``'s order, each declaring ``scalar``, their predicates on the scene's numpy
+    floats; the first that handles it and declares itself exact runs on them (``_run_one``), as ``_auto_general``
+    runs a path that takes the whole batch of one. None where a path that does not declare ``scalar`` comes first
+    (or none takes the scene): the batch route decides then."""
+    for p in model._plan.order[1:]:
+        if not p.scalar:
+            return None
+        sel = _selection(p, one)
+        if sel is None or every(sel):
+            return _run_one(p, one, batch)
+    return None
 
 
 def _run_one(p: Path, one: dict[str, Any], batch: tuple[int, ...]) -> Any:

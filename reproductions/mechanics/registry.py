@@ -355,9 +355,16 @@ def _spheres_reference(on_cloth: bool):
 
 
 def _spheres_slip(s: Scene) -> np.ndarray:
-    sl = spheres.contact_slip(np.asarray(s["v"]), np.asarray(s["w"]), np.asarray(s["vp"]), np.asarray(s["wp"]),
-                              np.asarray(s["R"]), np.asarray(s["Rp"]))
-    return np.hypot(sl[..., 0], sl[..., 1])
+    """|s0|, the slip at the contact before the impact (§V eq. (1)), per scene."""
+    # (numpy floats of one scene pass as they are: a 0-d array costs numpy's array calls in each product)
+    sy, sz = spheres.contact_slip_yz(*as_floats(s["v"], s["w"], s["vp"], s["wp"], s["R"], s["Rp"]))
+    return np.hypot(sy, sz)
+
+
+def _xyz(a: Any, i: int) -> Any:
+    """``a[..., i]`` of a vector parameter; of one scene's vector (1-D) its numpy float (``spheres._at``)."""
+    a = np.asarray(a)
+    return a[i] if a.ndim == 1 else a[..., i]
 
 
 def _free_resal_exact(s: Scene) -> np.ndarray:
@@ -461,7 +468,7 @@ def _spheres_model(on_cloth: bool) -> Model:
              "closed form, sliding or sticking (law (6) as a quadratic)", scalar=True),
         Path(PathCode.RESAL, Kind.AS_PRINTED, _spheres("resal", on_cloth),
              _cloth_resal_exact if on_cloth else _free_resal_exact, 1e-12, 1,
-             "§VI eqs (11)-(15), first order in f" if on_cloth else "§V eqs (5), (8), sliding assumed"),
+             "§VI eqs (11)-(15), first order in f" if on_cloth else "§V eqs (5), (8), sliding assumed", scalar=True),
         Path(PathCode.ODE, Kind.ODE, _spheres("ode", on_cloth), always, 1e-8, 1000,
              "slip integrated in the normal impulse (DOP853), normal impulse from law (6)",
              tuned=_spheres("ode", on_cloth), rtol=1e-11, solver="DOP853"),
@@ -471,9 +478,10 @@ def _spheres_model(on_cloth: bool) -> Model:
     )
 
     def admissible(s: Scene) -> np.ndarray:
-        approach = np.asarray(s["v"])[..., 0] - np.asarray(s["vp"])[..., 0] > 0
+        v, vp = s["v"], s["vp"]
+        approach = _xyz(v, 0) - _xyz(vp, 0) > 0
         if on_cloth:
-            approach &= (np.asarray(s["v"])[..., 2] == 0) & (np.asarray(s["vp"])[..., 2] == 0)
+            approach &= (_xyz(v, 2) == 0) & (_xyz(vp, 2) == 0)
         return approach
 
     return Model(

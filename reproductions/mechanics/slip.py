@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .paths import pick
+from .paths import maximum, pick
 
 __all__ = ["SlipDecay", "SlipWalk", "slip_decay"]
 
@@ -372,7 +372,10 @@ def _solve_x(target: np.ndarray, total: np.ndarray, e2: np.ndarray, r2: np.ndarr
 def _alone(x0: np.ndarray, rate: np.ndarray, tau: np.ndarray) -> np.ndarray:
     """A slip with one component (or both decaying at one rate, α = β: its magnitude): dx = −rate dτ while
     x > 0, then 0 (the elementary decays of the module docstring)."""
-    return np.maximum(x0 - rate * tau, 0.0)
+    return maximum(x0 - rate * tau, _ZERO)
+
+
+_ZERO = np.float64(0.0)
 
 
 def _together(phi0: np.ndarray, psi0: np.ndarray, rate: np.ndarray, tau: np.ndarray
@@ -559,11 +562,10 @@ class _DecayOne:
 
     def elementary(self, tau: np.float64) -> tuple[np.float64, np.float64]:
         """``SlipDecay.at`` for an elementary decay (ψ0 = 0, φ0 = 0 or α = β): (|φ1|, |ψ1|)."""
-        zero = np.float64(0.0)
         if self.kind == _ONLY_F:
-            f1, s1 = _alone(self.f0, self.a, tau), zero
+            f1, s1 = _alone(self.f0, self.a, tau), _ZERO
         elif self.kind == _ONLY_S:
-            f1, s1 = zero, _alone(self.s0, self.b, tau)
+            f1, s1 = _ZERO, _alone(self.s0, self.b, tau)
         else:
             f1, s1 = _together(self.f0, self.s0, self.a, tau)
         return (s1, f1) if self.swap else (f1, s1)

@@ -69,7 +69,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .budget import bounded, check
-from .paths import PathCode, Regime, as_floats, batch_arrays, codes, pick
+from .paths import PathCode, Regime, as_floats, batch_arrays, codes, maximum, minimum, pick, result
 from .slip import _TURNS, SlipDecay, SlipWalk, _DecayOne, _WalkOne, slip_decay
 
 __all__ = ["METHODS", "SpheresImpact", "contact_slip", "two_spheres"]
@@ -94,14 +94,36 @@ class SpheresImpact:
 
 
 _NO_SLIP, _GRIP, _SLIDE = Regime.NO_SLIP, Regime.GRIP, Regime.SLIDE  # (an enum's attribute costs a microsecond)
+_CODE = {m: PathCode[m.upper()] for m in METHODS}  # (so does looking a member up by name)
+_F64 = np.float64
+_ZERO, _ONE, _MINUS_ONE = np.float64(0.0), np.float64(1.0), np.float64(-1.0)
+_TINY, _INF = np.float64(1e-300), np.float64(np.inf)
 
 
 def _stack(*xs: Any) -> np.ndarray:
     """``np.stack(xs, axis=-1)``; for one scene as numpy floats (``paths.Path.scalar``) the array of them, without
     ``np.stack``'s fixed cost (the same numbers, placed alike)."""
-    if all(x.__class__ is np.float64 for x in xs):
-        return np.array(xs)
-    return np.stack(xs, axis=-1)
+    for x in xs:  # (a loop: cheaper than ``all`` over a generator)
+        if x.__class__ is not _F64:
+            return np.stack(xs, axis=-1)
+    return np.array(xs)
+
+
+def _sign(x: np.ndarray) -> np.ndarray:
+    """``np.sign(x)``; of a nonzero numpy float its ±1 without the ufunc's fixed cost (±0 and nan: numpy's own)."""
+    if x.__class__ is _F64:
+        if x > 0:
+            return _ONE
+        if x < 0:
+            return _MINUS_ONE
+    return np.sign(x)
+
+
+def _parts(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The x, y, z components of vectors on the last axis (``_at``)."""
+    if x.ndim == 1:
+        return x[0], x[1], x[2]
+    return x[..., 0], x[..., 1], x[..., 2]
 
 
 def _at(x: np.ndarray, i: int) -> np.ndarray:
@@ -115,28 +137,41 @@ def _fit(x: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
     return x.copy() if np.shape(x) == shape else np.broadcast_to(x, shape).copy()
 
 
+def _slip(vy: np.ndarray, vz: np.ndarray, wy: np.ndarray, wz: np.ndarray, pvy: np.ndarray, pvz: np.ndarray,
+          pwy: np.ndarray, pwz: np.ndarray, R: np.ndarray, Rp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Slip of M on M′ at the contact, eq. (1) of n°12, from the velocity components: (s_y, s_z)."""
+    return vy - pvy + R * wz + Rp * pwz, vz - pvz - R * wy - Rp * pwy
+
+
+def contact_slip_yz(v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, R: np.ndarray,
+                    Rp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``contact_slip``'s components (s_y, s_z), eq. (1) of n°12, not stacked."""
+    return _slip(_at(v, 1), _at(v, 2), _at(w, 1), _at(w, 2), _at(vp, 1), _at(vp, 2), _at(wp, 1), _at(wp, 2), R, Rp)
+
+
 def contact_slip(v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, R: np.ndarray,
                  Rp: np.ndarray) -> np.ndarray:
     """Slip of M on M′ at the contact, eq. (1) of n°12, as (y, z) on the last axis."""
-    sy = _at(v, 1) - _at(vp, 1) + R * _at(w, 2) + Rp * _at(wp, 2)
-    sz = _at(v, 2) - _at(vp, 2) - R * _at(w, 1) - Rp * _at(wp, 1)
-    return _stack(sy, sz)
+    return _stack(*contact_slip_yz(v, w, vp, wp, R, Rp))
 
 
 def _apply(M: np.ndarray, Mp: np.ndarray, R: np.ndarray, Rp: np.ndarray, k: np.ndarray, kp: np.ndarray,
-           v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, xi: np.ndarray, T: np.ndarray,
-           on_cloth: bool) -> tuple[np.ndarray, ...]:
+           v: tuple[np.ndarray, ...], w: tuple[np.ndarray, ...], vp: tuple[np.ndarray, ...],
+           wp: tuple[np.ndarray, ...], xi: np.ndarray, Ty: np.ndarray, Tz: np.ndarray, on_cloth: bool
+           ) -> tuple[np.ndarray, ...]:
     """Velocities after the normal impulse ξ and the tangential impulse T (on M′), eqs (2), (2′): the impulse
     −(ξ x̂ + T) on M at R x̂ and ξ x̂ + T on M′ at −R′ x̂, T = (0, T_y, T_z); the moments R x̂ × (−T) and
-    (−R′ x̂) × T are both R(0, T_z, −T_y) (R′ for M′). On the cloth the cloth takes the vertical impulses."""
-    if xi.__class__ is np.float64:  # one scene as numpy floats (``paths.Path.scalar``): T of shape (2,)
-        Ty, Tz, zero = T[0], T[1], np.float64(0.0)
-    else:
-        Ty, Tz, zero = T[..., 0], T[..., 1], np.zeros_like(xi)
-    dv = _stack(-xi / M, -Ty / M, zero if on_cloth else -Tz / M)
-    dvp = _stack(xi / Mp, Ty / Mp, zero if on_cloth else Tz / Mp)
-    turn = _stack(zero, Tz, -Ty)
-    return v + dv, w + (k / (M * R))[..., None] * turn, vp + dvp, wp + (kp / (Mp * Rp))[..., None] * turn
+    (−R′ x̂) × T are both R(0, T_z, −T_y) (R′ for M′). On the cloth the cloth takes the vertical impulses.
+    Component by component (v, w, v′, w′ as their x, y, z): one scene's numpy floats build no arrays but the
+    results (``paths.Path.scalar``); the same numbers as the vectors' sums."""
+    zero = _ZERO if xi.__class__ is _F64 else np.zeros_like(xi)
+    (vx, vy, vz), (wx, wy, wz), (pvx, pvy, pvz), (pwx, pwy, pwz) = v, w, vp, wp
+    c, cp = k / (M * R), kp / (Mp * Rp)  # the rotation per unit moment, times R (R′)
+    v1 = _stack(vx + -xi / M, vy + -Ty / M, vz + (zero if on_cloth else -Tz / M))
+    v1p = _stack(pvx + xi / Mp, pvy + Ty / Mp, pvz + (zero if on_cloth else Tz / Mp))
+    mTy = -Ty  # the moment's components (0, T_z, −T_y)
+    return (v1, _stack(wx + c * zero, wy + c * Tz, wz + c * mTy), v1p,
+            _stack(pwx + cp * zero, pwy + cp * Tz, pwz + cp * mTy))
 
 
 def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: ArrayLike, kp: ArrayLike,
@@ -149,16 +184,18 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     v, w, vp, wp = as_floats(v, w, vp, wp)
     M, Mp, R, Rp, k, kp, f, eps, epsp = batch_arrays(M, Mp, R, Rp, k, kp, f, eps, epsp)
-    batch = np.shape(M)
+    batch = M.shape
     if not v.shape[:-1] == w.shape[:-1] == vp.shape[:-1] == wp.shape[:-1] == batch:  # (one scene: numpy floats)
         batch = np.broadcast_shapes(v.shape[:-1], w.shape[:-1], vp.shape[:-1], wp.shape[:-1], batch)
         v, w, vp, wp = (np.broadcast_to(x, (*batch, 3)) for x in (v, w, vp, wp))
         M, Mp, R, Rp, k, kp, f, eps, epsp = (np.broadcast_to(x, batch) for x in (M, Mp, R, Rp, k, kp, f, eps, epsp))
+    one = M.__class__ is _F64  # one scene as numpy floats (``paths.Path.scalar``)
+    vc, wc, vpc, wpc = _parts(v), _parts(w), _parts(vp), _parts(wp)  # the components
     mu = M / Mp
-    approach = _at(v, 0) - _at(vp, 0)
+    approach = vc[0] - vpc[0]
     omega = approach / (1 + mu)  # speed lost by M at the greatest compression
-    s0 = contact_slip(v, w, vp, wp, R, Rp)
-    s0n = np.hypot(_at(s0, 0), _at(s0, 1))
+    s0y, s0z = _slip(vc[1], vc[2], wc[1], wc[2], vpc[1], vpc[2], wpc[1], wpc[2], R, Rp)  # eq. (1)
+    s0n = np.hypot(s0y, s0z)
     cy = (1 + k) / M + (1 + kp) / Mp
     cz = (k / M + kp / Mp) if on_cloth else cy
 
@@ -174,31 +211,36 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
             S = 1 + f * f * (1 + k) + mu * (1 + f * f * (1 + kp))
             omega1 = 2 * omega * S / S_eps(f)
         xi = M * omega1
-        unit = s0 / np.where(s0n > 0, s0n, 1.0)[..., None]
-        T = (f * xi)[..., None] * unit
+        size = pick(s0n > 0, s0n, 1.0)
+        uy, uz = s0y / size, s0z / size  # the slip's direction
+        fxi = f * xi
+        Ty, Tz = fxi * uy, fxi * uz
         # the premise (the balls slide throughout) fails where this slip change would reverse the slip: there
         # the slip really stops (for free balls the same criterion as the exact path's)
-        s1 = s0 - np.stack([cy * T[..., 0], cz * T[..., 1]], axis=-1)
-        stops = (np.sum(s1 * s0, axis=-1) < 0) & (s0n > 0)
-        s_c = s0 - (f * M * omega)[..., None] * np.stack([cy * unit[..., 0], cz * unit[..., 1]], axis=-1)
-        converged = np.ones(batch, dtype=bool)
+        s1y, s1z = s0y - cy * Ty, s0z - cz * Tz
+        stops = (s1y * s0y + s1z * s0z < 0) & (s0n > 0)
+        fMo = f * M * omega
+        s_c = _stack(s0y - fMo * (cy * uy), s0z - fMo * (cz * uz))
+        converged = np.True_ if one else np.ones(batch, dtype=bool)
         label = ("Résal's §VI eqs (11)-(15), first order in f" if on_cloth
                  else "Résal's §V eqs (5), (8), sliding assumed throughout")
         if stops.any():
             label += f"; premise fails where the slip stops ({int(stops.sum())} of {stops.size} scene(s))"
     elif method == "ode":
+        s0 = _stack(s0y, s0z)
         omega1, s1, s_c, converged = _ode_impact(s0, approach, omega, M, cy, cz, f, coef, rtol, solver)
         xi = M * omega1
         label = ("ODE of the slip in the normal impulse (DOP853), normal impulse from law (6) solved on its dense "
                  "output (Brent)")
-        T = np.stack([(s0[..., 0] - s1[..., 0]) / cy, (s0[..., 1] - s1[..., 1]) / cz], axis=-1)
+        Ty, Tz = (s0y - s1[..., 0]) / cy, (s0z - s1[..., 1]) / cz
         stops = (np.hypot(s1[..., 0], s1[..., 1]) <= 1e-9 * np.maximum(s0n, 1e-300)) & (s0n > 0)
     else:
-        converged = np.ones(batch, dtype=bool)
+        converged = np.True_ if one else np.ones(batch, dtype=bool)
         final = None  # on the cloth: the slip after, from the end of the fixed point
         if not on_cloth:
-            w_c = np.maximum(s0n - f * cy * M * omega, 0.0)
-            s_c = s0 * (w_c / pick(s0n > 0, s0n, 1.0))[..., None]
+            w_c = maximum(s0n - f * cy * M * omega, _ZERO)
+            shrink = w_c / pick(s0n > 0, s0n, 1.0)
+            s_c = _stack(s0y * shrink, s0z * shrink)
             omega1 = (2 * approach + 2 * f * s0n - 2 * f * w_c) / S_eps(f)
             stick = f * cy * M * omega1 > s0n  # the slip stops during the restitution
             # quadratic α ω1² − 2Δ ω1 + β = 0 with λ = |s0|/(c M ω1)
@@ -206,24 +248,31 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
             lam0 = s0n / (cy * M)
             beta = lam0 * lam0 * ((1 + k) * (1 + eps) + mu * (1 + kp) * (1 + epsp)) \
                 - 2 * s0n * (s0n - w_c) / (cy * M)
-            disc = np.maximum(approach * approach - alpha * beta, 0.0)
+            disc = maximum(approach * approach - alpha * beta, _ZERO)
             omega1 = pick(stick, (approach + np.sqrt(disc)) / alpha, omega1)
         else:
-            omega1, converged, s_c, final = _cloth_normal_impulse(s0, approach, omega, M, cy, cz, f, coef)
+            omega1, converged, s_c, final = _cloth_normal_impulse(s0y, s0z, approach, omega, M, cy, cz, f, coef)
         xi = M * omega1
         if final is None:
-            a1, b1 = slip_decay(np.abs(_at(s0, 0)), np.abs(_at(s0, 1)), M * cy, M * cz, f * omega1)
+            a1, b1 = slip_decay(abs(s0y), abs(s0z), M * cy, M * cz, f * omega1)
+        elif one:
+            a1, b1 = final
         else:
             a1, b1 = (x.reshape(batch) for x in final)
-        s1 = _stack(np.sign(_at(s0, 0)) * a1, np.sign(_at(s0, 1)) * b1)
+        s1y, s1z = _sign(s0y) * a1, _sign(s0z) * b1
         label = ("exact: slip decay in closed form (₂F₁), normal impulse from law (6) by Newton's method"
                  if on_cloth else "exact: closed form, sliding or sticking (law (6) as a quadratic)")
-        T = _stack((_at(s0, 0) - _at(s1, 0)) / cy, (_at(s0, 1) - _at(s1, 1)) / cz)
-        stops = (np.hypot(_at(s1, 0), _at(s1, 1)) <= 1e-12 * np.maximum(s0n, 1e-300)) & (s0n > 0)
-    v1, w1, v1p, w1p = _apply(M, Mp, R, Rp, k, kp, v, w, vp, wp, xi, T, on_cloth)
-    regime = np.where(s0n == 0, _NO_SLIP, np.where(stops, _GRIP, _SLIDE)).astype(np.int8)
-    return SpheresImpact(v1, w1, v1p, w1p, omega1, T, _fit(s_c, (*batch, 2)), _fit(converged, batch), method,
-                         codes(batch, PathCode[method.upper()]), regime, label)
+        Ty, Tz = (s0y - s1y) / cy, (s0z - s1z) / cz
+        stops = (np.hypot(s1y, s1z) <= 1e-12 * maximum(s0n, _TINY)) & (s0n > 0)
+    v1, w1, v1p, w1p = _apply(M, Mp, R, Rp, k, kp, vc, wc, vpc, wpc, xi, Ty, Tz, on_cloth)
+    if s0n.__class__ is _F64:  # one scene: its regime's code itself (``paths.codes``), as the masks below give it
+        regime = codes((), _NO_SLIP if s0n == 0 else _GRIP if stops else _SLIDE)
+    else:
+        regime = np.where(s0n == 0, _NO_SLIP, np.where(stops, _GRIP, _SLIDE)).astype(np.int8)
+    if not one:  # (one scene: s_c is a new array, converged a numpy bool that ``paths._run_one`` makes an array)
+        s_c, converged = _fit(s_c, (*batch, 2)), _fit(converged, batch)
+    return result(SpheresImpact, v1=v1, w1=w1, v1p=v1p, w1p=w1p, omega1=omega1, T=_stack(Ty, Tz), s_c=s_c,
+                  converged=converged, method=method, path=codes(batch, _CODE[method]), regime=regime, label=label)
 
 
 def _law6_S(lam: np.ndarray, k: np.ndarray, kp: np.ndarray, eps: np.ndarray, epsp: np.ndarray,
@@ -259,8 +308,8 @@ NEWTON_RTOL = 1e-14  # convergence of the §VI end of impact, relative to ω1
 NEWTON_MAXITER = 100
 
 
-def _cloth_normal_impulse(s0: np.ndarray, approach: np.ndarray, omega: np.ndarray, M: np.ndarray, cy: np.ndarray,
-                          cz: np.ndarray, f: np.ndarray, coef: tuple[np.ndarray, ...]
+def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray, omega: np.ndarray,
+                          M: np.ndarray, cy: np.ndarray, cz: np.ndarray, f: np.ndarray, coef: tuple[np.ndarray, ...]
                           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
     """ω1 on the cloth (§VI): the root of G(ω) (law (L), module docstring) beyond the greatest compression ω_c,
     with the slip decay in closed form, by Newton's method (G′ from the decay's rates, dY/dω = f M c_y |s_y|/|s|;
@@ -269,13 +318,14 @@ def _cloth_normal_impulse(s0: np.ndarray, approach: np.ndarray, omega: np.ndarra
     the slip's x (``slip.SlipWalk``: one step of the decay towards τ = f ω, its residual corrected to first
     order) and ω; it stops when the slip has converged for ω and a step is below ``NEWTON_RTOL`` of ω, or G is at
     its own rounding, or the bracket is that narrow (bounded by ``NEWTON_MAXITER``). The iteration runs on the
-    scenes still moving, its arrays compacted as scenes finish. Returns ω1, per scene whether it converged, the
-    slip at the greatest compression (y, z, signed), and the magnitudes of the slip after (y, z)."""
+    scenes still moving, its arrays compacted as scenes finish. ``s0y``, ``s0z``: the slip before (eq. (1)).
+    Returns ω1, per scene whether it converged, the slip at the greatest compression (y, z, signed), and the
+    magnitudes of the slip after (y, z)."""
     if approach.__class__ is np.float64:  # one scene as numpy floats (``paths.Path.scalar``)
-        return _cloth_normal_impulse_one(s0, approach, omega, M, cy, cz, f, coef)
+        return _cloth_normal_impulse_one(s0y, s0z, approach, omega, M, cy, cz, f, coef)
     shape = approach.shape
-    sy, sz = np.sign(s0[..., 0]).ravel(), np.sign(s0[..., 1]).ravel()
-    a0, b0 = np.abs(s0[..., 0]).ravel(), np.abs(s0[..., 1]).ravel()
+    sy, sz = np.sign(s0y).ravel(), np.sign(s0z).ravel()
+    a0, b0 = np.abs(s0y).ravel(), np.abs(s0z).ravel()
     M, cy, cz, f, approach, om_c = (np.ravel(x) for x in (M, cy, cz, f, approach, omega))
     coef = tuple(np.ravel(x) for x in coef)
     N, Ay, Az, By, Bz = coef
@@ -386,7 +436,7 @@ def _cloth_guess(g_c: np.ndarray, om_c: np.ndarray, ac: np.ndarray, bc: np.ndarr
     b = 2 * (n_ * om_c - D + (ay - by) * Yc * dY + (az - bz) * Zc * dZ)
     sq = np.sqrt(b * b - 4 * a * g_c)
     t = pick(b >= 0, -2 * g_c / (b + sq), (sq - b) / (2 * a))
-    return np.minimum(np.maximum(om_c + t, om_c), hi)
+    return minimum(maximum(om_c + t, om_c), hi)
 
 
 def _cloth_newton(om: np.ndarray, p1: np.ndarray, q1: np.ndarray, A0: np.ndarray, B0: np.ndarray, YC: np.ndarray,
@@ -430,19 +480,21 @@ def _root_step(g: np.ndarray, slope: np.ndarray, curve: np.ndarray) -> np.ndarra
     cancellation; Newton's G/G′ where the model has no root or G′ ≤ 0. Only the path to the root differs from
     Newton's: the same root, bracket and tests."""
     disc = slope * slope - 2 * g * curve
-    return pick((disc > 0) & (slope > 0), 2 * g / (slope + np.sqrt(np.maximum(disc, 0.0))), g / slope)
+    return pick((disc > 0) & (slope > 0), 2 * g / (slope + np.sqrt(maximum(disc, _ZERO))), g / slope)
 
 
 def _norm(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """|s| = √(p² + q²) of a slip's magnitudes p, q ≥ 0, scaled by the larger against overflow and underflow (to
     an ulp or two of np.hypot, at a fifth of its cost); 0 for no slip."""
-    m = np.maximum(p, q)
-    r = np.minimum(p, q) / (m + (m == 0))
+    m = maximum(p, q)
+    r = minimum(p, q) / (m + (m == 0))
     return m * np.sqrt(1 + r * r)
 
 
 def _inside(nxt: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Whether a Newton iterate is finite and strictly inside the bracket."""
+    if nxt.__class__ is _F64:  # one scene: comparisons, without ``np.isfinite``'s fixed cost (nan compares false)
+        return -_INF < nxt < _INF and nxt > lo and nxt < hi
     return np.isfinite(nxt) & (nxt > lo) & (nxt < hi)
 
 
@@ -452,13 +504,13 @@ def _bisect(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 
 def _quiet(g: np.ndarray, noise: np.ndarray) -> np.ndarray:
     """G at its own rounding (``_cloth_normal_impulse``)."""
-    return (np.abs(g) <= noise) | (g == 0)
+    return (abs(g) <= noise) | (g == 0)
 
 
 def _ends(nxt: np.ndarray, om: np.ndarray, quiet: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """``_cloth_normal_impulse``'s stop (where the slip has converged for ω): a step below ``NEWTON_RTOL`` of ω,
     G at its rounding, or the bracket that narrow."""
-    return (np.abs(nxt - om) <= NEWTON_RTOL * np.abs(nxt)) | quiet | (hi - lo <= NEWTON_RTOL * hi)
+    return (abs(nxt - om) <= NEWTON_RTOL * abs(nxt)) | quiet | (hi - lo <= NEWTON_RTOL * hi)
 
 
 def _cloth_final(p1: np.ndarray, q1: np.ndarray, dY: np.ndarray, dZ: np.ndarray, step: np.ndarray
@@ -467,14 +519,14 @@ def _cloth_final(p1: np.ndarray, q1: np.ndarray, dY: np.ndarray, dZ: np.ndarray,
     return p1 - dY * step, q1 - dZ * step
 
 
-def _cloth_normal_impulse_one(s0: np.ndarray, approach: np.float64, omega: np.float64, M: np.float64,
+def _cloth_normal_impulse_one(s0y: np.float64, s0z: np.float64, approach: np.float64, omega: np.float64, M: np.float64,
                               cy: np.float64, cz: np.float64, f: np.float64, coef: tuple[np.float64, ...]
                               ) -> tuple[np.float64, np.bool_, np.ndarray, tuple[np.float64, np.float64]]:
     """``_cloth_normal_impulse`` for one scene as numpy floats (``paths.Path.scalar``): the same formulas
     (``slip._DecayOne``, ``slip._WalkOne``, ``_cloth_high``, ``law6_G``, ``_cloth_guess``, ``_cloth_newton``, the
     bracket's tests), the same tests, bracket and limits, its masks as branches; the same numbers."""
-    sy, sz = np.sign(s0[0]), np.sign(s0[1])
-    a0, b0 = np.abs(s0[0]), np.abs(s0[1])
+    sy, sz = _sign(s0y), _sign(s0z)
+    a0, b0 = abs(s0y), abs(s0z)
     N, _, _, By, Bz = coef
     AL, BE = M * cy, M * cz
     dec = _DecayOne(a0, b0, AL, BE)
@@ -502,9 +554,9 @@ def _cloth_normal_impulse_one(s0: np.ndarray, approach: np.float64, omega: np.fl
         g, noise, dY, dZ, nxt = _cloth_newton(om, p1, q1, a0, b0, Yc, Zc, approach, f, AL, BE, coef)
         if settled:  # the bracket moves where the slip has converged for ω
             if g < 0:
-                lo = np.maximum(lo, om)
+                lo = maximum(lo, om)
             elif g > 0:
-                hi = np.minimum(hi, om)
+                hi = minimum(hi, om)
         if not _inside(nxt, lo, hi):
             nxt = _bisect(lo, hi)
         quiet = settled and _quiet(g, noise)
