@@ -68,3 +68,68 @@ def test_one_scene_with_vectors_is_the_scene_of_the_general_route(model):
         np.testing.assert_array_equal(a, b[0])
     assert np.shares_memory(s["w"], w) and not s["w"].flags.writeable
     assert s["vp"] is m.scene(values)["vp"] and not s["vp"].flags.writeable
+
+
+def _bytes(x):
+    return np.asarray(x, dtype=float).tobytes()
+
+
+def test_hypot_of_one_scene_is_numpys_own():
+    """``spheres._hypot`` on numpy floats (the magnitude itself where one of them is ±0) against ``np.hypot``."""
+    values = [*SPECIAL, 3.0, -4.0, 1e-310, -1e300, 1.7976931348623157e308]
+    for a in values:
+        for b in values:
+            with np.errstate(all="ignore"):
+                got, want = spheres._hypot(np.float64(a), np.float64(b)), np.hypot(np.float64(a), np.float64(b))
+            assert type(got) is type(want) is np.float64
+            assert _bytes(got) == _bytes(want), (a, b)
+    rng = np.random.default_rng(3)
+    x = rng.standard_normal(2000) * 10.0 ** rng.uniform(-310, 300, 2000)
+    for a in x:
+        for b in (0.0, -0.0):
+            assert _bytes(spheres._hypot(np.float64(a), np.float64(b))) == _bytes(np.hypot(a, b)), a
+            assert _bytes(spheres._hypot(np.float64(b), np.float64(a))) == _bytes(np.hypot(b, a)), a
+
+
+def test_norm_quiet_and_ends_of_one_scene_are_the_arrays_own():
+    """``_norm``'s inline choice of the larger and the smaller, and the stop tests ``_quiet`` and ``_ends`` taken
+    in turn, on numpy floats, against the same functions on arrays (every pair of special values)."""
+    values = [0.0, -0.0, 1.0, 2.5, 1e-320, 1e300, np.inf, np.nan]
+    for p in values:
+        for q in values:
+            with np.errstate(all="ignore"):
+                one = spheres._norm(np.float64(p), np.float64(q))
+                arr = spheres._norm(np.array([p]), np.array([q]))[0]
+            assert type(one) is np.float64 and _bytes(one) == _bytes(arr), (p, q)
+            g, noise = np.float64(p) - 1.0, np.float64(q)
+            assert bool(spheres._quiet(g, noise)) == bool(spheres._quiet(np.array([g]), np.array([noise]))[0])
+            for quiet in (False, True):
+                args = (np.float64(p), np.float64(q), quiet, np.float64(q), np.float64(p))
+                with np.errstate(all="ignore"):
+                    want = spheres._ends(*(np.array([a]) for a in args))[0]
+                    got = spheres._ends(*args)
+                assert bool(got) == bool(want), (p, q, quiet)
+
+
+def test_root_step_and_guess_of_one_scene_take_the_arrays_branch():
+    """``_root_step`` and ``_cloth_guess`` compute only the branch they take on numpy floats: the arrays' numbers."""
+    values = [-2.0, -0.0, 0.0, 0.5, 3.0]
+    for g in values:
+        for slope in values:
+            for curve in values:
+                with np.errstate(all="ignore"):
+                    one = spheres._root_step(np.float64(g), np.float64(slope), np.float64(curve))
+                    arr = spheres._root_step(np.array([g]), np.array([slope]), np.array([curve]))[0]
+                assert _bytes(one) == _bytes(arr), (g, slope, curve)
+    rng = np.random.default_rng(5)
+    coef = tuple(rng.uniform(0.1, 2.0, 5))
+    for _ in range(200):
+        x = rng.uniform(-1.0, 1.0, 10)  # G(ω_c), ω_c, the slip's a_c, b_c, Y_c, Z_c, Δ, f, α, β
+        x[0] = -abs(x[0])  # G(ω_c) < 0
+        x[2:4] = abs(x[2:4]) * (rng.random(2) > 0.2)  # a stopped slip too
+        hi = x[1] + 5.0
+        with np.errstate(all="ignore"):
+            one = spheres._cloth_guess(*map(np.float64, x), tuple(map(np.float64, coef)), np.float64(hi))
+            arr = spheres._cloth_guess(*(np.array([a]) for a in x), tuple(np.array([c]) for c in coef),
+                                       np.array([hi]))[0]
+        assert type(one) is np.float64 and _bytes(one) == _bytes(arr), x

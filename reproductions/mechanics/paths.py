@@ -98,6 +98,7 @@ def _some(mask: np.ndarray) -> bool:
 
 
 _F64, _BOOL, _NDARRAY = np.float64, np.bool_, np.ndarray
+_F64_DTYPE = np.dtype(np.float64)
 
 
 def batch_arrays(*xs: Any) -> list[Any]:
@@ -124,9 +125,9 @@ def as_floats(*xs: Any) -> list[Any]:
     """``np.asarray(x, dtype=float)`` of each argument (no broadcasting), numpy floats passing as they are (see
     ``batch_arrays``)."""
     for x in xs:
-        if x.__class__ is not _F64:
+        if x.__class__ is not _F64 and not (x.__class__ is _NDARRAY and x.dtype is _F64_DTYPE):
             return [x if x.__class__ is _F64 else np.asarray(x, dtype=float) for x in xs]
-    return list(xs)
+    return list(xs)  # (float arrays too: ``np.asarray`` would give each itself)
 
 
 def pick(cond: Any, a: Any, b: Any) -> Any:
@@ -435,8 +436,8 @@ def solve(model: Model, scene: Scene, method: str = "auto") -> Any:
     if one is not None:
         if first.handles is always and first.exact_when is always:  # (``_selection`` gives None)
             return _run_one(first, one, batch)
-        sel = _selection(first, one)
-        if sel is None or every(sel):
+        sel = _selection_one(first, one)
+        if sel is None or (sel if sel.__class__ is _BOOL else every(sel)):
             return _run_one(first, one, batch)
         later = _later_one(model, one, batch)
         if later is not None:
@@ -452,8 +453,11 @@ def _one(model: Model, scene: Scene) -> dict[str, Any]:
     """A scene of one, its numbers as numpy floats (vectors as arrays of 3, static parameters as given)."""
     plan = model._plan
     static, vectors = plan.static, plan.vectors
-    if not static and not vectors:
-        return {k: (a[()] if a.ndim == 0 else a[0]) for k, a in scene.items()}
+    if not static:  # (a vector of one scene of shape (): the array itself, as ``reshape`` would view it)
+        if not vectors:
+            return {k: (a[()] if a.ndim == 0 else a[0]) for k, a in scene.items()}
+        return {k: (a[()] if a.ndim == 0 else (a if a.ndim == 1 else a.reshape(3)) if k in vectors else a[0])
+                for k, a in scene.items()}
     return {k: (a if k in static else a.reshape(3) if k in vectors else a[()] if a.ndim == 0 else a[0])
             for k, a in scene.items()}
 
@@ -467,7 +471,7 @@ def _later_one(model: Model, one: dict[str, Any], batch: tuple[int, ...]) -> Any
     for p in model._plan.order[1:]:
         if not p.scalar:
             return None
-        sel = _selection(p, one)
+        sel = _selection_one(p, one)
         if sel is None or every(sel):
             return _run_one(p, one, batch)
     return None
@@ -485,10 +489,12 @@ def _run_one(p: Path, one: dict[str, Any], batch: tuple[int, ...]) -> Any:
                 v = v if cls is np.ndarray else np.asarray(v)
                 values[name] = v.reshape((*batch, *v.shape))  # (a vector per scene: its own axis last)
     else:
-        f64, ndarray, asarray = _F64, np.ndarray, np.asarray
+        f64, ndarray, asarray, generic = _F64, np.ndarray, np.asarray, np.generic
         for name, v in values.items():
             cls = v.__class__
-            if cls is f64 or (cls is not ndarray and cls is not str and isinstance(v, np.generic)):
+            if cls is ndarray or cls is str:
+                continue
+            if cls is f64 or isinstance(v, generic):
                 values[name] = asarray(v)
     values["method"] = "auto"
     values["label"] = f"auto: 1 by {res.label}"
@@ -528,6 +534,22 @@ def _selection(p: Path, flat: Scene) -> np.ndarray | None:
     sel = None if p.handles is always else np.asarray(p.handles(flat), dtype=bool)
     if p.exact_when is not always and p.exact_when is not p.handles:
         exact = np.asarray(p.exact_when(flat), dtype=bool)
+        sel = exact if sel is None else sel & exact
+    return sel
+
+
+def _selection_one(p: Path, one: Scene) -> Any:
+    """``_selection`` for a single scene as numpy floats (``_one``): a predicate's numpy bool as it is, not made
+    a 0-d array (``every`` takes either)."""
+    sel = None
+    if p.handles is not always:
+        sel = p.handles(one)
+        if sel.__class__ is not _BOOL:
+            sel = np.asarray(sel, dtype=bool)
+    if p.exact_when is not always and p.exact_when is not p.handles:
+        exact = p.exact_when(one)
+        if exact.__class__ is not _BOOL:
+            exact = np.asarray(exact, dtype=bool)
         sel = exact if sel is None else sel & exact
     return sel
 

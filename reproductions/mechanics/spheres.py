@@ -98,6 +98,8 @@ _CODE = {m: PathCode[m.upper()] for m in METHODS}  # (so does looking a member u
 _F64 = np.float64
 _ZERO, _ONE, _MINUS_ONE = np.float64(0.0), np.float64(1.0), np.float64(-1.0)
 _TINY, _INF = np.float64(1e-300), np.float64(np.inf)
+# np.sign of a numpy float ±0, where numpy gives both the same number (else None: ``_sign`` asks numpy each time)
+_SIGN_OF_ZERO = np.sign(_ZERO) if np.sign(_ZERO).tobytes() == np.sign(-_ZERO).tobytes() else None
 
 
 def _stack(*xs: Any) -> np.ndarray:
@@ -116,7 +118,21 @@ def _sign(x: np.ndarray) -> np.ndarray:
             return _ONE
         if x < 0:
             return _MINUS_ONE
+        if x == 0 and _SIGN_OF_ZERO is not None:
+            return _SIGN_OF_ZERO
     return np.sign(x)
+
+
+def _hypot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.hypot(a, b)``; of numpy floats one of them ±0 and the other not nan, the other's magnitude itself, as
+    the C library's hypot gives it (C99 F.10.4.3: hypot(x, ±0) is fabs(x), and hypot is symmetric), without the
+    ufunc's cost (a nan's sign is numpy's to give: it goes to ``np.hypot``)."""
+    if a.__class__ is _F64 and b.__class__ is _F64:
+        if b == 0 and a == a:
+            return abs(a)
+        if a == 0 and b == b:
+            return abs(b)
+    return np.hypot(a, b)
 
 
 def _parts(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -146,6 +162,8 @@ def _slip(vy: np.ndarray, vz: np.ndarray, wy: np.ndarray, wz: np.ndarray, pvy: n
 def contact_slip_yz(v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, R: np.ndarray,
                     Rp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``contact_slip``'s components (s_y, s_z), eq. (1) of n°12, not stacked."""
+    if v.ndim == w.ndim == vp.ndim == wp.ndim == 1:  # one scene's vectors: their numpy floats (``_at``)
+        return _slip(v[1], v[2], w[1], w[2], vp[1], vp[2], wp[1], wp[2], R, Rp)
     return _slip(_at(v, 1), _at(v, 2), _at(w, 1), _at(w, 2), _at(vp, 1), _at(vp, 2), _at(wp, 1), _at(wp, 2), R, Rp)
 
 
@@ -157,8 +175,8 @@ def contact_slip(v: np.ndarray, w: np.ndarray, vp: np.ndarray, wp: np.ndarray, R
 
 def _apply(M: np.ndarray, Mp: np.ndarray, R: np.ndarray, Rp: np.ndarray, k: np.ndarray, kp: np.ndarray,
            v: tuple[np.ndarray, ...], w: tuple[np.ndarray, ...], vp: tuple[np.ndarray, ...],
-           wp: tuple[np.ndarray, ...], xi: np.ndarray, Ty: np.ndarray, Tz: np.ndarray, on_cloth: bool
-           ) -> tuple[np.ndarray, ...]:
+           wp: tuple[np.ndarray, ...], xi: np.ndarray, Ty: np.ndarray, Tz: np.ndarray, on_cloth: bool,
+           one: bool = False) -> tuple[np.ndarray, ...]:
     """Velocities after the normal impulse ξ and the tangential impulse T (on M′), eqs (2), (2′): the impulse
     −(ξ x̂ + T) on M at R x̂ and ξ x̂ + T on M′ at −R′ x̂, T = (0, T_y, T_z); the moments R x̂ × (−T) and
     (−R′ x̂) × T are both R(0, T_z, −T_y) (R′ for M′). On the cloth the cloth takes the vertical impulses.
@@ -167,6 +185,12 @@ def _apply(M: np.ndarray, Mp: np.ndarray, R: np.ndarray, Rp: np.ndarray, k: np.n
     zero = _ZERO if xi.__class__ is _F64 else np.zeros_like(xi)
     (vx, vy, vz), (wx, wy, wz), (pvx, pvy, pvz), (pwx, pwy, pwz) = v, w, vp, wp
     c, cp = k / (M * R), kp / (Mp * Rp)  # the rotation per unit moment, times R (R′)
+    if one and xi.__class__ is _F64 and Ty.__class__ is _F64 and Tz.__class__ is _F64:  # ``_stack``'s array
+        v1 = np.array((vx + -xi / M, vy + -Ty / M, vz + (zero if on_cloth else -Tz / M)))
+        v1p = np.array((pvx + xi / Mp, pvy + Ty / Mp, pvz + (zero if on_cloth else Tz / Mp)))
+        mTy = -Ty
+        return (v1, np.array((wx + c * zero, wy + c * Tz, wz + c * mTy)), v1p,
+                np.array((pwx + cp * zero, pwy + cp * Tz, pwz + cp * mTy)))
     v1 = _stack(vx + -xi / M, vy + -Ty / M, vz + (zero if on_cloth else -Tz / M))
     v1p = _stack(pvx + xi / Mp, pvy + Ty / Mp, pvz + (zero if on_cloth else Tz / Mp))
     mTy = -Ty  # the moment's components (0, T_z, −T_y)
@@ -185,31 +209,34 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
     v, w, vp, wp = as_floats(v, w, vp, wp)
     M, Mp, R, Rp, k, kp, f, eps, epsp = batch_arrays(M, Mp, R, Rp, k, kp, f, eps, epsp)
     batch = M.shape
-    if not v.shape[:-1] == w.shape[:-1] == vp.shape[:-1] == wp.shape[:-1] == batch:  # (one scene: numpy floats)
-        batch = np.broadcast_shapes(v.shape[:-1], w.shape[:-1], vp.shape[:-1], wp.shape[:-1], batch)
-        v, w, vp, wp = (np.broadcast_to(x, (*batch, 3)) for x in (v, w, vp, wp))
-        M, Mp, R, Rp, k, kp, f, eps, epsp = (np.broadcast_to(x, batch) for x in (M, Mp, R, Rp, k, kp, f, eps, epsp))
     one = M.__class__ is _F64  # one scene as numpy floats (``paths.Path.scalar``)
-    vc, wc, vpc, wpc = _parts(v), _parts(w), _parts(vp), _parts(wp)  # the components
+    if one and v.ndim == w.ndim == vp.ndim == wp.ndim == 1:  # (its vectors: 3 numbers each, batch ())
+        vc, wc, vpc, wpc = (v[0], v[1], v[2]), (w[0], w[1], w[2]), (vp[0], vp[1], vp[2]), (wp[0], wp[1], wp[2])
+    else:
+        one = False
+        if not v.shape[:-1] == w.shape[:-1] == vp.shape[:-1] == wp.shape[:-1] == batch:
+            batch = np.broadcast_shapes(v.shape[:-1], w.shape[:-1], vp.shape[:-1], wp.shape[:-1], batch)
+            v, w, vp, wp = (np.broadcast_to(x, (*batch, 3)) for x in (v, w, vp, wp))
+            M, Mp, R, Rp, k, kp, f, eps, epsp = (np.broadcast_to(x, batch)
+                                                 for x in (M, Mp, R, Rp, k, kp, f, eps, epsp))
+    if not one:  # (one scene: its components taken above)
+        vc, wc, vpc, wpc = _parts(v), _parts(w), _parts(vp), _parts(wp)  # the components
     mu = M / Mp
     approach = vc[0] - vpc[0]
     omega = approach / (1 + mu)  # speed lost by M at the greatest compression
     s0y, s0z = _slip(vc[1], vc[2], wc[1], wc[2], vpc[1], vpc[2], wpc[1], wpc[2], R, Rp)  # eq. (1)
-    s0n = np.hypot(s0y, s0z)
+    s0n = _hypot(s0y, s0z)
     cy = (1 + k) / M + (1 + kp) / Mp
     cz = (k / M + kp / Mp) if on_cloth else cy
 
     coef = _law_coefficients(M, mu, k, kp, eps, epsp, cy, cz, on_cloth)
-
-    def S_eps(lam: np.ndarray) -> np.ndarray:
-        return _law6_S(lam, k, kp, eps, epsp, mu)
 
     if method == "resal":
         if on_cloth:  # §VI (11)-(15): first order in f
             omega1 = 2 * omega * (1 + mu) / ((1 + eps) + mu * (1 + epsp))
         else:  # §V (8): sliding throughout
             S = 1 + f * f * (1 + k) + mu * (1 + f * f * (1 + kp))
-            omega1 = 2 * omega * S / S_eps(f)
+            omega1 = 2 * omega * S / _law6_S(f, k, kp, eps, epsp, mu)
         xi = M * omega1
         size = pick(s0n > 0, s0n, 1.0)
         uy, uz = s0y / size, s0z / size  # the slip's direction
@@ -241,7 +268,7 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
             w_c = maximum(s0n - f * cy * M * omega, _ZERO)
             shrink = w_c / pick(s0n > 0, s0n, 1.0)
             s_c = _stack(s0y * shrink, s0z * shrink)
-            omega1 = (2 * approach + 2 * f * s0n - 2 * f * w_c) / S_eps(f)
+            omega1 = (2 * approach + 2 * f * s0n - 2 * f * w_c) / _law6_S(f, k, kp, eps, epsp, mu)
             stick = f * cy * M * omega1 > s0n  # the slip stops during the restitution
             # quadratic α ω1² − 2Δ ω1 + β = 0 with λ = |s0|/(c M ω1)
             alpha = (1 + eps) + mu * (1 + epsp)
@@ -251,7 +278,8 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
             disc = maximum(approach * approach - alpha * beta, _ZERO)
             omega1 = pick(stick, (approach + np.sqrt(disc)) / alpha, omega1)
         else:
-            omega1, converged, s_c, final = _cloth_normal_impulse(s0y, s0z, approach, omega, M, cy, cz, f, coef)
+            impulse = _cloth_normal_impulse_one if one else _cloth_normal_impulse  # (one scene: its floats')
+            omega1, converged, s_c, final = impulse(s0y, s0z, approach, omega, M, cy, cz, f, coef)
         xi = M * omega1
         if final is None:
             a1, b1 = slip_decay(abs(s0y), abs(s0z), M * cy, M * cz, f * omega1)
@@ -263,15 +291,16 @@ def two_spheres(M: ArrayLike, Mp: ArrayLike, R: ArrayLike, Rp: ArrayLike, k: Arr
         label = ("exact: slip decay in closed form (₂F₁), normal impulse from law (6) by Newton's method"
                  if on_cloth else "exact: closed form, sliding or sticking (law (6) as a quadratic)")
         Ty, Tz = (s0y - s1y) / cy, (s0z - s1z) / cz
-        stops = (np.hypot(s1y, s1z) <= 1e-12 * maximum(s0n, _TINY)) & (s0n > 0)
-    v1, w1, v1p, w1p = _apply(M, Mp, R, Rp, k, kp, vc, wc, vpc, wpc, xi, Ty, Tz, on_cloth)
+        stops = (_hypot(s1y, s1z) <= 1e-12 * maximum(s0n, _TINY)) & (s0n > 0)
+    v1, w1, v1p, w1p = _apply(M, Mp, R, Rp, k, kp, vc, wc, vpc, wpc, xi, Ty, Tz, on_cloth, one)
     if s0n.__class__ is _F64:  # one scene: its regime's code itself (``paths.codes``), as the masks below give it
         regime = codes((), _NO_SLIP if s0n == 0 else _GRIP if stops else _SLIDE)
     else:
         regime = np.where(s0n == 0, _NO_SLIP, np.where(stops, _GRIP, _SLIDE)).astype(np.int8)
     if not one:  # (one scene: s_c is a new array, converged a numpy bool that ``paths._run_one`` makes an array)
         s_c, converged = _fit(s_c, (*batch, 2)), _fit(converged, batch)
-    return result(SpheresImpact, v1=v1, w1=w1, v1p=v1p, w1p=w1p, omega1=omega1, T=_stack(Ty, Tz), s_c=s_c,
+    T = np.array((Ty, Tz)) if one and Ty.__class__ is _F64 and Tz.__class__ is _F64 else _stack(Ty, Tz)
+    return result(SpheresImpact, v1=v1, w1=w1, v1p=v1p, w1p=w1p, omega1=omega1, T=T, s_c=s_c,
                   converged=converged, method=method, path=codes(batch, _CODE[method]), regime=regime, label=label)
 
 
@@ -287,11 +316,13 @@ def _law_coefficients(M: np.ndarray, mu: np.ndarray, k: np.ndarray, kp: np.ndarr
                       ) -> tuple[np.ndarray, ...]:
     """N, A_y, A_z, B_y = 1/(M c_y), B_z = 1/(M c_z) of G(ω), law (L) of the module docstring (§I eq. (6) for
     these bodies; k_z = k on the cloth, 1 + k free)."""
-    kz, kpz = (k, kp) if on_cloth else (1 + k, 1 + kp)
-    N = (1 + eps) + mu * (1 + epsp)
+    k1, kp1 = 1 + k, 1 + kp
+    kz, kpz = (k, kp) if on_cloth else (k1, kp1)
+    e1, me1 = 1 + eps, mu * (1 + epsp)  # (each computed once: the same numbers)
+    N = e1 + me1
     By, Bz = 1 / (M * cy), 1 / (M * cz)
-    Ay = ((1 + eps) * (1 + k) + mu * (1 + epsp) * (1 + kp)) * By * By
-    Az = ((1 + eps) * kz + mu * (1 + epsp) * kpz) * Bz * Bz
+    Ay = (e1 * k1 + me1 * kp1) * By * By
+    Az = (e1 * kz + me1 * kpz) * Bz * Bz
     return N, Ay, Az, By, Bz
 
 
@@ -430,12 +461,18 @@ def _cloth_guess(g_c: np.ndarray, om_c: np.ndarray, ac: np.ndarray, bc: np.ndarr
     iteration that follows and its tests are unchanged."""
     n_, ay, az, by, bz = coef
     n = _norm(ac, bc)
-    rate = pick(n > 0, F / pick(n > 0, n, 1.0), 0.0)  # a slip that has stopped has no rate
+    if n.__class__ is _F64:  # one scene: the branch itself
+        rate = F / n if n > 0 else 0.0
+    else:
+        rate = pick(n > 0, F / pick(n > 0, n, 1.0), 0.0)  # a slip that has stopped has no rate
     dY, dZ = AL * ac * rate, BE * bc * rate
     a = n_ + ay * dY * dY + az * dZ * dZ
     b = 2 * (n_ * om_c - D + (ay - by) * Yc * dY + (az - bz) * Zc * dZ)
     sq = np.sqrt(b * b - 4 * a * g_c)
-    t = pick(b >= 0, -2 * g_c / (b + sq), (sq - b) / (2 * a))
+    if b.__class__ is _F64:  # one scene: only the branch taken (the array route computes both, warnings off)
+        t = -2 * g_c / (b + sq) if b >= 0 else (sq - b) / (2 * a)
+    else:
+        t = pick(b >= 0, -2 * g_c / (b + sq), (sq - b) / (2 * a))
     return minimum(maximum(om_c + t, om_c), hi)
 
 
@@ -453,8 +490,11 @@ def _cloth_newton(om: np.ndarray, p1: np.ndarray, q1: np.ndarray, A0: np.ndarray
                         + 2 * (by * (Y + A0) * YC + bz * (Z + B0) * ZC))
     n = _norm(p1, q1)
     if n.__class__ is np.float64:  # one scene (``paths.Path.scalar``): a slip that has stopped has no rate
-        rate = F / n if n > 0 else np.float64(0.0)
-        per = rate / n if n > 0 else np.float64(0.0)
+        if n > 0:
+            rate = F / n
+            per = rate / n
+        else:
+            rate = per = _ZERO
     else:
         rate = F / n
         per = rate / n
@@ -480,12 +520,25 @@ def _root_step(g: np.ndarray, slope: np.ndarray, curve: np.ndarray) -> np.ndarra
     cancellation; Newton's G/G′ where the model has no root or G′ ≤ 0. Only the path to the root differs from
     Newton's: the same root, bracket and tests."""
     disc = slope * slope - 2 * g * curve
+    if disc.__class__ is _F64:  # one scene: only the branch taken (the array route computes both, warnings off)
+        if disc > 0 and slope > 0:
+            return 2 * g / (slope + np.sqrt(maximum(disc, _ZERO)))
+        return g / slope
     return pick((disc > 0) & (slope > 0), 2 * g / (slope + np.sqrt(maximum(disc, _ZERO))), g / slope)
 
 
 def _norm(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """|s| = √(p² + q²) of a slip's magnitudes p, q ≥ 0, scaled by the larger against overflow and underflow (to
     an ulp or two of np.hypot, at a fifth of its cost); 0 for no slip."""
+    if p.__class__ is _F64 and q.__class__ is _F64:  # one scene: ``maximum``'s and ``minimum``'s choices, inline
+        if p > q or p != p:
+            m, lo = p, (p if p != p else q)
+        elif p < q:
+            m, lo = q, p
+        else:
+            m = lo = q
+        r = lo / (_ONE if m == 0 else m)  # (m + (m == 0): 1 where m is ±0, else m itself)
+        return m * np.sqrt(1 + r * r)
     m = maximum(p, q)
     r = minimum(p, q) / (m + (m == 0))
     return m * np.sqrt(1 + r * r)
@@ -504,12 +557,16 @@ def _bisect(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 
 def _quiet(g: np.ndarray, noise: np.ndarray) -> np.ndarray:
     """G at its own rounding (``_cloth_normal_impulse``)."""
+    if g.__class__ is _F64:  # one scene: the same tests, in turn
+        return abs(g) <= noise or g == 0
     return (abs(g) <= noise) | (g == 0)
 
 
 def _ends(nxt: np.ndarray, om: np.ndarray, quiet: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """``_cloth_normal_impulse``'s stop (where the slip has converged for ω): a step below ``NEWTON_RTOL`` of ω,
     G at its rounding, or the bracket that narrow."""
+    if nxt.__class__ is _F64:  # one scene: the same tests, in turn
+        return abs(nxt - om) <= NEWTON_RTOL * abs(nxt) or quiet or hi - lo <= NEWTON_RTOL * hi
     return (abs(nxt - om) <= NEWTON_RTOL * abs(nxt)) | quiet | (hi - lo <= NEWTON_RTOL * hi)
 
 
@@ -535,7 +592,7 @@ def _cloth_normal_impulse_one(s0y: np.float64, s0z: np.float64, approach: np.flo
         ac, bc, xc, hc = _WalkOne(dec, np.float64(1.0), dec.total).settle(f * omega)
     else:
         ac, bc = dec.elementary(f * omega)
-    s_c = _stack(sy * ac, sz * bc)
+    s_c = np.array((sy * ac, sz * bc))  # (``_stack`` of its numpy floats)
     Yc, Zc = a0 - ac, b0 - bc
     hi = _cloth_high(a0, b0, approach, N, By, Bz)
     g_c = law6_G(omega, Yc, Zc, Yc, Zc, approach, coef)
