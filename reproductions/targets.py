@@ -130,9 +130,19 @@ def _fmt(x: float, unit: str) -> str:
     return f"{x:.1e}" if unit == "relative" else f"{x:.3g}"
 
 
+def _fmt_apart(x: float, target: float, unit: str) -> str:
+    """``x`` as ``_fmt`` shows it, with more digits where that would read as the target itself (60.04 µs against
+    ≤ 60 µs shown "60": a miss that reads as a tie)."""
+    shown, digits = _fmt(x, unit), 3
+    while x != target and shown == _fmt(target, unit) and digits < 17:
+        digits += 1
+        shown = f"{x:.{digits - 1}e}" if unit == "relative" else f"{x:.{digits}g}"
+    return shown
+
+
 def _cells(t: dict[str, Any]) -> tuple[str, str, str, str]:
     unit = "" if t["unit"] == "relative" else f" {t['unit']}"
-    now = "not measured" if t["now"] is None else f"{_fmt(t['now'], t['unit'])}{unit}"
+    now = "not measured" if t["now"] is None else f"{_fmt_apart(t['now'], t['target'], t['unit'])}{unit}"
     bound = ("≥ " if t["larger_is_better"] else "≤ ") + _fmt(t["target"], t["unit"]) + unit
     return t["what"], now, bound, {True: "yes", False: "no", None: "—"}[t["met"]]
 

@@ -111,3 +111,13 @@ def test_pooltool_is_measured_only_where_it_is_installed(monkeypatch) -> None:
     real = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "pooltool" else real(name, *a))
     assert pooltool_side.measure(repeat=1) is None and pooltool_side.version() is None
+
+
+def test_a_figure_next_to_its_target_is_shown_apart_from_it() -> None:
+    """60.04 µs against ≤ 60 µs is a miss: shown with the digits that tell it from 60, never as "60 … no"."""
+    rep = _report({"spheres-cloth": 60.04, "spheres-free": 60.0}, rate=1.0, err=0.0, make_all=None)
+    got = {t.what: t.as_dict() for t in targets.rows(rep)}
+    miss = targets.terminal_lines([got["one scene: two balls on the cloth"]], None)[-1]
+    tie = targets.terminal_lines([got["one scene: two free balls"]], None)[-1]
+    assert "60.04 µs" in miss and miss.endswith("no"), miss
+    assert " 60 µs" in tie and tie.endswith("yes"), tie
