@@ -79,6 +79,11 @@ def _failed(exc: BaseException) -> NoReturn:
     import errno
 
     stop = _signal_within(exc)
+    if stop is None:  # a library that printed the interruption and raised its own error (numpy's import_array)
+        from reproductions import processes
+
+        signum = processes.signal_received()
+        stop = Interrupted(signum) if signum is not None else None
     if stop is not None:
         _stopped(stop)
     if isinstance(exc, OSError):

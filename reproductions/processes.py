@@ -44,7 +44,7 @@ def interruptible(hold_after: bool = False) -> Iterator[None]:
                 os.kill(os.getpid(), signum)
             return
         if _RECEIVED["signum"] is None:
-            _RECEIVED["signum"] = signum
+            _RECEIVED["signum"] = _LAST[0] = signum
             # inside an at-fork hook, a weakref callback, a finaliser or the garbage collector the exception would
             # be printed ("Exception ignored in …", a traceback) and dropped: there the next ``checkpoint`` raises;
             # inside ``deferred()`` its end raises
@@ -115,6 +115,7 @@ def _in_callback(frame: Any) -> bool:
 # the signals that end a command the same way: one line, earlier results intact, staging removed, 128 + n
 STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n))
 _RECEIVED: dict[str, int | None] = {"signum": None}  # the signal ``interruptible`` received, if any
+_LAST: list[int | None] = [None]  # the last signal any ``interruptible`` block received: kept after the block
 _DEFERRED = [0]  # how many ``deferred()`` blocks this thread is inside
 _PENDING: list[int | None] = [None]  # a signal received inside ``deferred()``, raised at its end
 _FORKING = [False]  # True while this process forks (between the at-fork hooks, ours outermost)
@@ -130,6 +131,13 @@ def _fork_ends() -> None:
 
 if hasattr(os, "register_at_fork"):
     os.register_at_fork(before=_fork_begins, after_in_parent=_fork_ends, after_in_child=_fork_ends)
+
+
+def signal_received() -> int | None:
+    """The stop signal an ``interruptible`` block of this process received, if one did, even after the block has
+    ended: a failure that followed it (a library's initialisation that turned the interruption into an
+    ``ImportError`` of its own, with no trace of it) is the signal's doing, and the run ends as that signal."""
+    return _LAST[0]
 
 
 def checkpoint() -> None:

@@ -153,7 +153,7 @@ def test_a_signal_inside_a_deferred_block_with_other_threads_waits_for_its_end(t
     assert r.stdout.split() == ["['block", "finished']", "interrupted", str(int(signal.SIGTERM))], r.stdout
 
 
-def _library_whose_init_fails(signal_first: bool) -> str:
+def _library_whose_init_fails(signal_first: bool, chained: bool = True) -> str:
     """Child code that runs ``resal list`` where importing ``yaml`` runs a library's initialisation that fails as
     pybind11's modules do (matplotlib's among them): any error of the init is caught and raised again as
     ``ImportError('initialization failed')`` from it. With ``signal_first`` the error is a stop signal landing
@@ -171,7 +171,10 @@ def _library_whose_init_fails(signal_first: bool) -> str:
                         time.sleep(0.001)  # the handler runs here
                 raise RuntimeError("the library's own failure")
             except BaseException as exc:  # pybind11: catch (error_already_set &e) {{ raise_from(e, ...) }}
-                raise ImportError("initialization failed") from exc
+                if {chained}:
+                    raise ImportError("initialization failed") from exc
+            # numpy's import_array: PyErr_Print() (the interruption printed and cleared), then its own ImportError
+            raise ImportError("initialization failed")
     class Finder(importlib.abc.MetaPathFinder):
         def find_spec(self, name, path=None, target=None):
             return importlib.util.spec_from_loader(name, Init()) if name == "yaml" else None
@@ -194,3 +197,11 @@ def test_a_library_initialisation_failing_by_itself_is_a_failure_to_load(tmp_pat
     r = _child(_library_whose_init_fails(False), tmp_path)
     assert r.returncode == 1 and r.stderr.startswith("error: cannot load a library (initialization failed)"), (
         r.returncode, r.stderr)
+
+
+def test_a_signal_a_library_swallowed_into_its_own_error_still_ends_the_run_as_that_signal(tmp_path: Path) -> None:
+    """The init clears the interruption and raises an ImportError with no trace of it (numpy's ``import_array``
+    prints and clears the error first): the signal ``interruptible`` received still decides, one line, 128 + n."""
+    r = _child(_library_whose_init_fails(True, chained=False), tmp_path)
+    assert (r.returncode, r.stderr) == (128 + signal.SIGINT, "error: interrupted (SIGINT); earlier results left "
+                                                            "as they were\n"), (r.returncode, r.stderr)
