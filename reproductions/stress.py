@@ -498,6 +498,14 @@ def _boundaries(row: _Row, m: paths.Model, s: dict, r: Any, path: str, rng: np.r
             return
         got.append((sx, rx))
     n_alive = int(alive.sum())
+    # a side whose iteration did not converge is that failure, named with its own scene: the outputs of an
+    # unconverged iteration say nothing of the continuity of what it solves for (a jump between them is its doing)
+    stuck = np.zeros(n_alive, dtype=bool)
+    for sx, rx in got[:2]:
+        if hasattr(rx, "converged"):
+            here = ~np.asarray(rx.converged, dtype=bool).reshape(n_alive)
+            row.note(Check.NOT_CONVERGED, here.astype(float), 0.5, sx, here)
+            stuck |= here
     same_side = (np.all(_regime_key(got[2][1], n_alive, path == "auto") == ka[alive], axis=1)
                  & np.any(_regime_key(got[3][1], n_alive, path == "auto") != ka[alive], axis=1))
     with np.errstate(all="ignore"):
@@ -505,8 +513,8 @@ def _boundaries(row: _Row, m: paths.Model, s: dict, r: Any, path: str, rng: np.r
         wide = np.asarray(m.error(got[0][0], got[2][1], got[3][1]), dtype=float)
     steep = same_side & (jump * SHRINK < wide)  # shrank with the bracket: continuous
     row.boundary_pairs += n_alive
-    row.note(Check.DISCONTINUITY, np.where(steep, 0.0, jump), CONTINUITY_TOL, got[0][0],
-             (jump > CONTINUITY_TOL) & ~steep)
+    row.note(Check.DISCONTINUITY, np.where(steep | stuck, 0.0, jump), CONTINUITY_TOL, got[0][0],
+             (jump > CONTINUITY_TOL) & ~steep & ~stuck)
 
 
 def _slow(row: _Row, m: paths.Model, s: dict, name: str) -> list[Any]:

@@ -21,6 +21,7 @@ from reproductions import stress
 from reproductions.mechanics import paths, registry
 from reproductions.mechanics.inertia import K_MIN
 from reproductions.mechanics.paths import Kind, Regime
+from reproductions.mechanics.plane import PlaneImpact
 
 
 @pytest.fixture(scope="module")
@@ -120,6 +121,27 @@ def test_a_steep_but_continuous_change_is_not_a_jump():
     # enough to read as a jump (seed 5 of the streams before issue 34, seed 1 of the chunked ones); seed 2 is not one
     fails, _ = _failures(_plane_with(steep), seed=2)
     assert "discontinuity" not in fails
+
+
+def test_an_iteration_left_unconverged_at_a_boundary_is_that_failure_not_a_jump():
+    """A path whose iteration stops short next to a regime boundary (§VI's end of impact did, where the slip stops
+    at the impact's end): the bisection's scenes there are not-converged failures, each named with its own scene,
+    and the outputs the iteration left are not read as a discontinuity of what it solves for."""
+    @dataclasses.dataclass(frozen=True)
+    class Iterated(PlaneImpact):
+        converged: np.ndarray = None
+
+    def short(s, r):
+        v0 = s["chi0"] - s["p0"] * s["R"]
+        budget = s["f"] * (1 + s["k"]) * (1 + s["nu"]) * np.abs(s["zeta0"])
+        scale = np.hypot(s["chi0"], s["zeta0"]) + np.abs(s["p0"] * s["R"])
+        near = (np.abs(np.abs(v0) - budget) <= 1e-9 * scale) & (v0 != 0)  # only a bisection lands this close
+        fields = {f.name: getattr(r, f.name) for f in dataclasses.fields(r)}
+        fields["zeta1"] = r.zeta1 * np.where(near & (r.regime == Regime.GRIP), 1.001, 1.0)  # one side moved
+        return Iterated(**fields, converged=~near)
+
+    fails, _ = _failures(_plane_with(short))
+    assert fails.get("not-converged", 0) > 0 and "discontinuity" not in fails, fails
 
 
 def test_a_planted_gain_and_momentum_break_are_failures_of_an_exact_path_and_findings_of_an_approximation():
