@@ -8,7 +8,12 @@
   it has alone, bit for bit; the walk's quadratic step settles where ``SlipDecay.at`` (plain Newton) does;
 - ``_F`` on a column per element picks the branch per element, w = 1 exactly included;
 - the end of impact on the cloth (``_cloth_guess``, ``_root_step``): homogeneous (k = k′) and heterogeneous batches
-  give each scene what it gets alone (the scalar route) to rounding, and agree with the referee.
+  give each scene what it gets alone (the scalar route) to rounding, and agree with the referee;
+- ``slip._split_sum``'s powers by square roots where c0 is a multiple of ¼ (``_quarter_power``, ``_class_series``
+  snapping a class to 5/4) are its exponentials' to a few ulps;
+- the walk settled on its step left (``slip.WALK_ACCEPT``) and ω accepted on its predicted next step
+  (``spheres.ACCEPT``) move the results by less than the iteration's tolerance, 1e-14;
+- ``paths._scatter`` (rows as opaque items) and ``paths._roomy_heap`` change no byte.
 """
 
 import numpy as np
@@ -183,3 +188,87 @@ def test_a_walk_on_some_scenes_of_a_table_is_each_walk_alone():
         i = idx[j]
         got = slip.SlipWalk(dec, np.array([i]), np.ones(1), dec.total[[i]]).settle(tau[[i]])
         assert [a[0] for a in got] == [p[j], q[j], x[j], h[j]], i
+
+
+@pytest.mark.parametrize("e4", list(range(-13, 14)))
+def test_quarter_power_is_np_power_to_an_ulp_or_two(e4):
+    """``slip._quarter_power`` (x^(e4/4) by √ and ∜) against np.power, arrays and numpy floats alike."""
+    x = 10.0 ** np.random.default_rng(e4 + 20).uniform(-12, 12, 3000)
+    got = slip._quarter_power(x, e4)
+    assert np.max(np.abs(got / np.power(x, e4 / 4) - 1)) <= 6 * np.finfo(float).eps
+    one = slip._quarter_power(np.float64(x[7]), e4)
+    assert one.__class__ is np.float64 and one == got[7]
+
+
+@pytest.mark.parametrize("c", [0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.25, 2.5, 3.0, 5.25])
+def test_split_sum_by_square_roots_is_the_exponentials_to_rounding(c, monkeypatch):
+    """``_split_sum`` on a c that is a multiple of ¼ (powers by square roots) against the same series with its
+    powers by exp and log (``_quarters`` switched off): F to a few ulps, w from 1 to 1e300."""
+    s = slip._class_series(c)
+    assert slip._quarters(s.c - s.j, s.estar) is not None
+    w = np.concatenate([1 + np.linspace(0, 1e-6, 50), 10.0 ** np.linspace(0, 300, 3000)])
+    fast = slip._split_sum(w, s)
+    one = slip._split_sum(np.float64(w[100]), slip._class_scalars(c))
+    monkeypatch.setattr(slip, "_quarters", lambda c0, es: None)
+    slow = slip._split_sum(w, s)
+    assert np.max(np.abs(fast / slow - 1)) <= 8 * np.finfo(float).eps
+    assert one == pytest.approx(slow[100], rel=8 * np.finfo(float).eps, abs=0)
+
+
+def test_class_series_snaps_to_a_quarter_within_a_class_rounding_only():
+    """k = k′ = 5/2 on the cloth gives c = 5/4 to some ulps: the class's series is at 5/4 itself (square roots);
+    a c farther than a class's rounding keeps its own value (exponentials)."""
+    near = 1.25 + 4 * np.spacing(1.25)
+    assert float(slip._class_series(near).c[0]) == 1.25
+    far = 1.25 + 1e-12
+    s = slip._class_series(far)
+    assert float(s.c[0]) == far and slip._quarters(s.c - s.j, s.estar) is None
+    assert float(slip._class_series(1e-300).c[0]) == 1e-300  # (no quarter at 0)
+
+
+@pytest.mark.parametrize("hetero", [False, True])
+def test_early_ends_of_the_walk_and_of_omega_move_results_below_the_tolerance(hetero, monkeypatch):
+    """The walk settled on its step left (``slip.WALK_ACCEPT``) and ω accepted on its predicted next step
+    (``spheres.ACCEPT``, ``_ends``) against the iteration with both switched off (steps until below 1e-14):
+    ω1 to 1e-14 of itself, the velocities to 1e-14 of the approach speed."""
+    m = registry.MODELS["spheres-cloth"]
+    s = _cloth_batch(3000, hetero, 41)
+    scene = m.scene(s)
+    fast = paths.solve(m, scene, "auto")
+    monkeypatch.setattr(slip, "WALK_ACCEPT", 0.0)
+    monkeypatch.setattr(spheres, "ACCEPT", 0.0)
+    slow = paths.solve(m, scene, "auto")
+    assert fast.converged.all() and slow.converged.all()
+    assert np.max(np.abs(fast.omega1 - slow.omega1) / np.abs(slow.omega1)) <= 1e-14
+    scale = np.abs(s["v"][:, 0] - s["vp"][:, 0])[:, None]
+    for name, r in (("v1", 1.0), ("w1", 0.0305), ("v1p", 1.0), ("w1p", 0.0305)):
+        assert np.max(np.abs(getattr(fast, name) - getattr(slow, name)) * r / scale) <= 1e-14, name
+    # and one scene (the scalar route) stops where its batch does, to rounding
+    for i in range(0, 3000, 311):
+        one = m.scene({k: (v if k in m.static else np.asarray(v)[i]) for k, v in s.items()})
+        alone = paths.solve(m, one, "auto")
+        assert float(alone.omega1) == pytest.approx(float(slow.omega1[i]), rel=1e-14, abs=0)
+
+
+def test_scatter_of_rows_is_fancy_assignment():
+    """``paths._scatter`` (rows moved as opaque items) puts the same bytes as ``out[idx] = v``."""
+    rng = np.random.default_rng(3)
+    n = 1000
+    idx = np.flatnonzero(rng.random(n) < 0.7)
+    for v in (rng.random((idx.size, 3)), rng.random((idx.size, 2)), rng.random(idx.size) < 0.5,
+              rng.integers(0, 3, idx.size).astype(np.int8), rng.random((idx.size, 3))[:, :2]):
+        out, want = np.zeros((n, *v.shape[1:]), v.dtype), np.zeros((n, *v.shape[1:]), v.dtype)
+        paths._scatter(out, idx, v)
+        want[idx] = v
+        assert out.tobytes() == want.tobytes()
+
+
+def test_the_roomy_heap_changes_no_number():
+    m = registry.MODELS["spheres-cloth"]
+    scene = m.scene(_cloth_batch(500, False, 5))
+    before = paths.solve(m, scene, "auto")
+    paths._roomy_heap()
+    after = paths.solve(m, scene, "auto")
+    assert paths._heap[0]
+    for name in ("v1", "w1", "v1p", "w1p", "omega1"):
+        assert getattr(before, name).tobytes() == getattr(after, name).tobytes()

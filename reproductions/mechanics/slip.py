@@ -163,7 +163,12 @@ def _first(enough: Callable[[int], bool], checked: int, i: int) -> int:
 
 @lru_cache(maxsize=64)
 def _class_series(c: float) -> _Series:
-    """``_series`` for one c, as columns that broadcast."""
+    """``_series`` for one c, as columns that broadcast; at the multiple of ¼ that c is within a class's rounding of
+    (``CLASS_ULPS``: c = 5/4 on the cloth for k = k′ = 5/2 carries 14 ulps), where ``_split_sum`` takes its powers
+    by square roots (F moves by less than that rounding)."""
+    q = round(4 * c) / 4
+    if q > 0 and abs(c - q) <= CLASS_ULPS * min(1 + 2 * c, 8.0) * np.spacing(c):
+        c = q
     return _series(np.array([c]))
 
 
@@ -281,19 +286,60 @@ def _pfaff_sum(w: np.ndarray, p: np.ndarray) -> np.ndarray:
 
 
 def _split_sum(w: np.ndarray, s: _Series) -> np.ndarray:
-    """F for w ≥ 1 by the series in v = 1/(1 + w), then the contiguous relation (comment above ``C_SERIES``)."""
+    """F for w ≥ 1 by the series in v = 1/(1 + w), then the contiguous relation (comment above ``C_SERIES``).
+    The powers w^(−c0), (1 + 1/w)^c0 and ((1 + w)/2)^(e*) by square roots where c0 (one for all) is a multiple
+    of ¼ (``_quarters``: c = k/2 = 5/4 on the cloth for solid balls, k = k′ = 5/2), else by exponentials."""
     j, es = s.j, s.estar
     c0 = s.c - j
-    v, root, lw = 1 / (1 + w), np.sqrt(1 + w), np.log(w)
-    L = np.log((1 + w) * 0.5)  # ln(½/v)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        E = pick(es == 0, L, np.expm1(es * L) / es)
-    f = c0 * (np.exp(-c0 * lw) * s.const + root * np.exp(c0 * np.log1p(1 / w))
-              * (s.bstar * _int_power(v, s.mstar) * E - _horner(s.g, v)))
+    v, root, q = 1 / (1 + w), np.sqrt(1 + w), 1 + 1 / w
+    half = (1 + w) * 0.5  # ½/v
+    quarters = _quarters(c0, es)
+    if quarters is not None:  # the same terms, their powers by square roots (to an ulp or two, as exp and log)
+        c4, e4 = quarters
+        with np.errstate(invalid="ignore", divide="ignore"):
+            E = np.log(half) if e4 == 0 else (_quarter_power(half, e4) - 1) / es
+        wc, qc = _quarter_power(w, -c4), _quarter_power(q, c4)
+    else:
+        L = np.log(half)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            E = pick(es == 0, L, np.expm1(es * L) / es)
+        # (1 + 1/w)^c0 = exp(c0 ln q): q's rounding, below an ulp of q, moves the power by c0 of it (log1p of 1/w
+        # is not needed for that, and costs twice the logarithm)
+        wc, qc = np.exp(-c0 * np.log(w)), np.exp(c0 * np.log(q))
+    f = c0 * (wc * s.const + root * qc * (s.bstar * _int_power(v, s.mstar) * E - _horner(s.g, v)))
     for step in range(int(np.max(j))):  # the contiguous relation up to c
         cc = c0 + step
         f = pick(j > step, (cc + 1) / (cc + 1.5) * (root * (1 + 1 / w) - f / w), f)
     return f
+
+
+def _quarters(c0: np.ndarray, es: np.ndarray) -> tuple[int, int] | None:
+    """(4 c0, 4 e*) as integers where ``_split_sum``'s c0 is one number (a class of scenes, one scene) and a
+    multiple of ¼ (then so is e* = m* − c0 − ½), else None."""
+    if np.size(c0) != 1:
+        return None
+    c4 = 4 * float(c0 if c0.__class__ is np.float64 else c0.ravel()[0])
+    if c4 != int(c4) or c4 > 4 * C_SERIES:
+        return None
+    e4 = 4 * float(es if es.__class__ is np.float64 else es.ravel()[0])
+    return int(c4), int(e4)
+
+
+def _quarter_power(x: np.ndarray, e4: int) -> np.ndarray:
+    """x^(e4/4) for x > 0 by products of x, √x and ∜x (``_split_sum``: to an ulp or two, as exp(e ln x), at a
+    fraction of its cost); a negative power as the positive one of 1/x."""
+    if e4 < 0:
+        x, e4 = 1 / x, -e4
+    n, r = divmod(e4, 4)
+    out = None
+    if r:
+        s = np.sqrt(x)
+        out = s if r == 2 else np.sqrt(s) if r == 1 else s * np.sqrt(s)
+    for _ in range(n):
+        out = x if out is None else out * x
+    if out is None:  # x^0
+        return np.ones_like(x) if x.__class__ is np.ndarray else np.float64(1.0)
+    return out
 
 
 def _int_power(v: np.ndarray, m: np.ndarray) -> np.ndarray:
@@ -614,6 +660,17 @@ def _walk_move(y: np.ndarray, step: np.ndarray, e2: np.ndarray) -> tuple[np.ndar
     return y, np.exp(y), np.exp(e2 * y)
 
 
+WALK_ACCEPT = 1e-9  # a walk whose step left is below this (in ln x) has settled (``_walk_settled``)
+
+
+def _walk_settled(size: np.ndarray, h: np.ndarray, target: np.ndarray, total: np.ndarray, last: np.ndarray,
+                  dy: np.ndarray) -> np.ndarray:
+    """A walk's convergence test: ``_solved``'s, or the step left dy (``_walk_gap``, Newton's from the H just
+    evaluated) below ``WALK_ACCEPT``: the slip returned, corrected to first order for dy (``_walk_slip``), is then
+    off by its second order, (1e-9)² of the slip (a step fewer than waiting for the step itself to be that small)."""
+    return _solved(size, h, target, total, last) | (abs(dy) <= WALK_ACCEPT)
+
+
 def _walk_slip(f0: np.ndarray, s0: np.ndarray, x: np.ndarray, u: np.ndarray, e2: np.ndarray, dy: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray]:
     """(|φ|, |ψ|) at x, corrected to first order for the step left dy (φ ∝ x^(α/β))."""
@@ -623,7 +680,8 @@ def _walk_slip(f0: np.ndarray, s0: np.ndarray, x: np.ndarray, u: np.ndarray, e2:
 class SlipWalk:
     """The general decays of a ``SlipDecay`` (scenes ``idx``, all with ``gen``) followed along a moving impulse τ, one
     Newton step of ``_solve_x`` per call of ``advance`` (the §VI end of impact moves τ = f ω at each of its own
-    steps, n°13): the step, the evaluation of H and ``_solve_x``'s convergence test, on arrays kept for the scenes
+    steps, n°13): the step, the evaluation of H and ``_solve_x``'s convergence test (or the step left below
+    ``WALK_ACCEPT``: ``_walk_settled``), on arrays kept for the scenes
     still walking (``keep`` drops the others) and updated in place. ``x0``, ``h0``: a start and its H (a root of
     ``SlipDecay.at``). The step is ``_walk_step``'s (Newton's with the curvature of ln H, which ``_solve_x`` does
     not use: the same root and test, an evaluation fewer). With a table of coefficients the walks keep the table's
@@ -691,11 +749,11 @@ class SlipWalk:
                 self.x[stop], self.u[stop], self.h[stop] = 0.0, 0.0, 0.0
             self._slope()
             size = np.abs(step)
-            settled = stop | _solved(size, self.h, target, self.total, self.last)
-            self.last = size
             dy = _walk_gap(lnt, self.lnh, self.el)  # the step left: −ρ/E
             if stop.any():
                 dy[stop] = 0.0
+            settled = stop | _walk_settled(size, self.h, target, self.total, self.last, dy)
+            self.last = size
             phi, psi = _walk_slip(self.f0, self.s0, self.x, self.u, self.e2, dy)
         if self.swap is None:
             return phi, psi, settled
@@ -777,9 +835,9 @@ class _WalkOne:
             self.h = _H_of(self.x, self.u, d.r2, d.scale, d.series)
             self._slope()
             size = np.abs(step)
-            settled = bool(_solved(size, self.h, target, d.total, self.last))
-            self.last = size
             dy = _walk_gap(lnt, self.lnh, self.el)
+            settled = bool(_walk_settled(size, self.h, target, d.total, self.last, dy))
+            self.last = size
         phi, psi = _walk_slip(d.f0, d.s0, self.x, self.u, d.e2, dy)
         return (psi, phi, settled) if d.swap else (phi, psi, settled)
 

@@ -336,6 +336,9 @@ def law6_G(om: np.ndarray, Y: np.ndarray, Z: np.ndarray, Yc: np.ndarray, Zc: np.
 
 _ULP = float(np.finfo(float).eps)
 NEWTON_RTOL = 1e-14  # convergence of the §VI end of impact, relative to ω1
+ACCEPT = 1e-9  # a step below this fraction of ω ends the iteration where the next one is predicted below NEWTON_RTOL
+# (``_ends``); the slip after, corrected to first order for the step (``_cloth_final``), is then off by its second
+# order, (1e-9)² of the slip
 NEWTON_MAXITER = 100
 
 
@@ -392,6 +395,7 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
     # gathering that table costs more than stepping finished scenes on, which changes no other scene's numbers)
     packing = 0.5 if walk.series is not None and walk.series.p.shape[-1] > 1 else 0.9
     p1 = q1 = dY = dZ = om
+    last = np.zeros(ix.size)  # the previous step of ω (``_ends``; none before the first)
     for _ in range(NEWTON_MAXITER):
         if ix.size == 0:
             break
@@ -416,7 +420,8 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
         quiet = settled & _quiet(g, noise)
         if quiet.any():
             nxt[quiet] = om[quiet]
-        fin = alive & settled & _ends(nxt, om, quiet, lo, hi)
+        fin = alive & settled & _ends(nxt, om, quiet, lo, hi, last)
+        last = np.abs(nxt - om)
         if fin.any():
             k = np.flatnonzero(fin)
             j = ix[k]
@@ -433,7 +438,7 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
                 wi = np.flatnonzero(gen)
             else:
                 walk.keep(k)
-            ix, om, alive = ix[k], om[k], alive[k]
+            ix, om, alive, last = ix[k], om[k], alive[k], last[k]
             A0, B0, YC, ZC, D, F, AL, BE, n_, ay, az, by, bz, lo, hi = (
                 c[k] for c in (A0, B0, YC, ZC, D, F, AL, BE, n_, ay, az, by, bz, lo, hi))
             p1, q1 = p1[k], q1[k]
@@ -562,12 +567,25 @@ def _quiet(g: np.ndarray, noise: np.ndarray) -> np.ndarray:
     return (abs(g) <= noise) | (g == 0)
 
 
-def _ends(nxt: np.ndarray, om: np.ndarray, quiet: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+def _ends(nxt: np.ndarray, om: np.ndarray, quiet: np.ndarray, lo: np.ndarray, hi: np.ndarray, last: np.ndarray
+          ) -> np.ndarray:
     """``_cloth_normal_impulse``'s stop (where the slip has converged for ω): a step below ``NEWTON_RTOL`` of ω,
-    G at its rounding, or the bracket that narrow."""
+    G at its rounding, or the bracket that narrow; or a step δ below ``ACCEPT`` of ω whose successor, predicted
+    from the convergence so far (cubic: δ (δ/δ_last)³, δ_last the step before, 0 at the first), is below
+    ``NEWTON_RTOL`` of ω (an iteration fewer: the step it saves would move ω by less than the test above allows)."""
     if nxt.__class__ is _F64:  # one scene: the same tests, in turn
-        return abs(nxt - om) <= NEWTON_RTOL * abs(nxt) or quiet or hi - lo <= NEWTON_RTOL * hi
-    return (abs(nxt - om) <= NEWTON_RTOL * abs(nxt)) | quiet | (hi - lo <= NEWTON_RTOL * hi)
+        step, size = abs(nxt - om), abs(nxt)
+        if step <= NEWTON_RTOL * size or quiet or hi - lo <= NEWTON_RTOL * hi:
+            return True
+        if not size > 0:  # (the arrays' quotients are then inf or nan: no end)
+            return False
+        rel, prev = step / size, last / size
+        return rel <= ACCEPT and rel * rel * rel * rel <= NEWTON_RTOL * (prev * prev * prev)
+    step, size = abs(nxt - om), abs(nxt)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel, prev = step / size, last / size
+    return ((step <= NEWTON_RTOL * size) | quiet | (hi - lo <= NEWTON_RTOL * hi)
+            | ((rel <= ACCEPT) & (rel * rel * rel * rel <= NEWTON_RTOL * (prev * prev * prev))))
 
 
 def _cloth_final(p1: np.ndarray, q1: np.ndarray, dY: np.ndarray, dZ: np.ndarray, step: np.ndarray
@@ -602,6 +620,7 @@ def _cloth_normal_impulse_one(s0y: np.float64, s0z: np.float64, approach: np.flo
     om = _cloth_guess(g_c, lo, ac, bc, Yc, Zc, approach, f, AL, BE, coef, hi)
     walk = _WalkOne(dec, xc, hc) if turns else None
     p1 = q1 = om
+    last = _ZERO  # the previous step of ω (``_ends``)
     for _ in range(NEWTON_MAXITER):
         tau = f * om
         if walk is not None:
@@ -619,8 +638,9 @@ def _cloth_normal_impulse_one(s0y: np.float64, s0z: np.float64, approach: np.flo
         quiet = settled and _quiet(g, noise)
         if quiet:
             nxt = om
-        if settled and _ends(nxt, om, quiet, lo, hi):
+        if settled and _ends(nxt, om, quiet, lo, hi, last):
             return nxt, np.True_, s_c, _cloth_final(p1, q1, dY, dZ, nxt - om)
+        last = abs(nxt - om)
         om = nxt
     return om, np.False_, s_c, (p1, q1)  # over NEWTON_MAXITER: the last iterate, not converged
 
