@@ -139,3 +139,26 @@ def test_root_step_and_guess_of_one_scene_take_the_arrays_branch():
             arr = spheres._cloth_guess(*(np.array([a]) for a in x), tuple(np.array([c]) for c in coef),
                                        np.array([hi]))[0]
         assert type(one) is np.float64 and _bytes(one) == _bytes(arr), x
+
+
+def test_the_exactness_of_resals_cloth_path_is_f_zero_or_no_slip_one_scene_and_batch():
+    """``registry._cloth_resal_exact`` (f = 0, or both slip components 0; one scene: the slip only where f ≠ 0)
+    against its definition, f = 0 or hypot of the slip = 0, on special values of every slip term, in a batch and
+    scene by scene (numpy bools there)."""
+    m = registry.MODELS["spheres-cloth"]
+    rng = np.random.default_rng(8)
+    n = 4000
+    pick = lambda *shape: rng.choice(SPECIAL, size=shape)  # noqa: E731
+    vals = {"v": np.c_[rng.uniform(0.5, 2.0, n), pick(n), np.zeros(n)], "w": pick(n, 3),
+            "vp": np.c_[np.zeros(n), pick(n), np.zeros(n)], "wp": pick(n, 3), "f": rng.choice([0.0, -0.0, 0.2], n),
+            "eps": np.full(n, 0.3), "epsp": np.full(n, 0.4)}
+    s = m.scene(vals)
+    with np.errstate(invalid="ignore"):  # (inf − inf in the slip: nan, not 0)
+        sy, sz = spheres.contact_slip_yz(s["v"], s["w"], s["vp"], s["wp"], s["R"], s["Rp"])
+        want = (np.asarray(s["f"]) == 0) | (np.hypot(sy, sz) == 0)
+        assert want.any() and not want.all()
+        assert np.array_equal(registry._cloth_resal_exact(s), want)
+        for i in range(0, n, 7):
+            one = paths._one(m, m.scene({k: v[i] for k, v in vals.items()}))
+            got = registry._cloth_resal_exact(one)
+            assert got.__class__ is np.bool_ and got == want[i], i

@@ -373,8 +373,15 @@ def _free_resal_exact(s: Scene) -> np.ndarray:
 
 
 def _cloth_resal_exact(s: Scene) -> np.ndarray:
-    """§VI's first order in f is exact without friction, or without slip."""
-    return (np.asarray(s["f"]) == 0) | (_spheres_slip(s) == 0)
+    """§VI's first order in f is exact without friction, or without slip (|s0| = 0: both components 0, as
+    hypot(y, z) is 0 only there). One scene (its numpy floats): the slip only where f ≠ 0, a numpy bool."""
+    f = s["f"]
+    if f.__class__ is np.float64 and f == 0:
+        return np.True_
+    sy, sz = spheres.contact_slip_yz(*as_floats(s["v"], s["w"], s["vp"], s["wp"], s["R"], s["Rp"]))
+    if f.__class__ is np.float64:
+        return (sy == 0) & (sz == 0)
+    return (np.asarray(f) == 0) | ((sy == 0) & (sz == 0))
 
 
 def _spheres_sample(on_cloth: bool):
