@@ -261,12 +261,12 @@ def test_cloth_end_of_impact_is_iterated_to_convergence_and_says_when_it_is_not(
     assert bool(r.converged)
     assert float(np.max(m.impact(s, r).law)) < 1e-12
     assert m.error(s, r, paths.solve(m, s, "reference")).max() < 1e-9
-    keep = spheres.NEWTON_MAXITER
+    keep = spheres.NEWTON_MAXITER, spheres.FALLBACK_MAXITER
     try:
-        spheres.NEWTON_MAXITER = 0  # no Newton step: the start only, flagged
+        spheres.NEWTON_MAXITER = spheres.FALLBACK_MAXITER = 0  # no Newton step, no bisection: the start, flagged
         r0 = paths.solve(m, s, "exact")
     finally:
-        spheres.NEWTON_MAXITER = keep
+        spheres.NEWTON_MAXITER, spheres.FALLBACK_MAXITER = keep
     assert not bool(r0.converged)
     # here the slip has stopped by the greatest compression, so G is the quadratic of ``spheres._cloth_guess`` and
     # the start is already the root; the frictionless root 2Δ/N, the start before, is far from it

@@ -104,17 +104,11 @@ def test_norm_quiet_and_ends_of_one_scene_are_the_arrays_own():
             g, noise = np.float64(p) - 1.0, np.float64(q)
             assert bool(spheres._quiet(g, noise)) == bool(spheres._quiet(np.array([g]), np.array([noise]))[0])
             for quiet in (False, True):
-                for last in (0.0, 1e-300, 1e-7, 1.0, np.inf, np.nan):
-                    args = (np.float64(p), np.float64(q), quiet, np.float64(q), np.float64(p), np.float64(last))
-                    with np.errstate(all="ignore"):
-                        want = spheres._ends(*(np.array([a]) for a in args))[0]
-                        got = spheres._ends(*args)
-                    assert bool(got) == bool(want), (p, q, quiet, last)
-    # steps near the accepted size: ω = 1 + δ from 1, the step before 0 (none), 1e-6 or 1e-4
-    for d in (1e-15, 5e-12, 1e-10, 9.9e-10, 1.1e-9, 1e-8):
-        for last in (0.0, 1e-6, 1e-4):
-            args = (np.float64(1 + d), np.float64(1.0), False, np.float64(0.0), np.float64(3.0), np.float64(last))
-            assert bool(spheres._ends(*args)) == bool(spheres._ends(*(np.array([a]) for a in args))[0])
+                args = (np.float64(p), np.float64(q), quiet, np.float64(q), np.float64(p))
+                with np.errstate(all="ignore"):
+                    want = spheres._ends(*(np.array([a]) for a in args))[0]
+                    got = spheres._ends(*args)
+                assert bool(got) == bool(want), (p, q, quiet)
 
 
 def test_root_step_and_guess_of_one_scene_take_the_arrays_branch():

@@ -336,9 +336,6 @@ def law6_G(om: np.ndarray, Y: np.ndarray, Z: np.ndarray, Yc: np.ndarray, Zc: np.
 
 _ULP = float(np.finfo(float).eps)
 NEWTON_RTOL = 1e-14  # convergence of the §VI end of impact, relative to ω1
-ACCEPT = 1e-9  # a step below this fraction of ω ends the iteration where the next one is predicted below NEWTON_RTOL
-# (``_ends``); the slip after, corrected to first order for the step (``_cloth_final``), is then off by its second
-# order, (1e-9)² of the slip
 NEWTON_MAXITER = 100
 
 
@@ -351,8 +348,9 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
     safeguarded by the bracket [ω_c, ω_hi] (bisection where a step leaves it). One iteration moves both unknowns:
     the slip's x (``slip.SlipWalk``: one step of the decay towards τ = f ω, its residual corrected to first
     order) and ω; it stops when the slip has converged for ω and a step is below ``NEWTON_RTOL`` of ω, or G is at
-    its own rounding, or the bracket is that narrow (bounded by ``NEWTON_MAXITER``). The iteration runs on the
-    scenes still moving, its arrays compacted as scenes finish. ``s0y``, ``s0z``: the slip before (eq. (1)).
+    its own rounding, or the bracket is that narrow (bounded by ``NEWTON_MAXITER``; a scene still moving then is
+    finished by ``_cloth_bisect``). The iteration runs on the scenes still moving, its arrays compacted as scenes
+    finish. ``s0y``, ``s0z``: the slip before (eq. (1)).
     Returns ω1, per scene whether it converged, the slip at the greatest compression (y, z, signed), and the
     magnitudes of the slip after (y, z)."""
     if approach.__class__ is np.float64:  # one scene as numpy floats (``paths.Path.scalar``)
@@ -395,7 +393,6 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
     # gathering that table costs more than stepping finished scenes on, which changes no other scene's numbers)
     packing = 0.5 if walk.series is not None and walk.series.p.shape[-1] > 1 else 0.9
     p1 = q1 = dY = dZ = om
-    last = np.zeros(ix.size)  # the previous step of ω (``_ends``; none before the first)
     for _ in range(NEWTON_MAXITER):
         if ix.size == 0:
             break
@@ -420,8 +417,7 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
         quiet = settled & _quiet(g, noise)
         if quiet.any():
             nxt[quiet] = om[quiet]
-        fin = alive & settled & _ends(nxt, om, quiet, lo, hi, last)
-        last = np.abs(nxt - om)
+        fin = alive & settled & _ends(nxt, om, quiet, lo, hi)
         if fin.any():
             k = np.flatnonzero(fin)
             j = ix[k]
@@ -438,13 +434,15 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
                 wi = np.flatnonzero(gen)
             else:
                 walk.keep(k)
-            ix, om, alive, last = ix[k], om[k], alive[k], last[k]
+            ix, om, alive = ix[k], om[k], alive[k]
             A0, B0, YC, ZC, D, F, AL, BE, n_, ay, az, by, bz, lo, hi = (
                 c[k] for c in (A0, B0, YC, ZC, D, F, AL, BE, n_, ay, az, by, bz, lo, hi))
             p1, q1 = p1[k], q1[k]
-    if ix.size:  # over NEWTON_MAXITER: the last iterate, not converged (of the scenes not written out)
-        k = np.flatnonzero(alive)
-        omega1[ix[k]], a1[ix[k]], b1[ix[k]] = om[k], p1[k], q1[k]
+    for k in np.flatnonzero(alive):  # over NEWTON_MAXITER: bisection on the settled slip (``_cloth_bisect``)
+        j = ix[k]
+        omega1[j], converged[j], (a1[j], b1[j]) = _cloth_bisect(
+            om[k], lo[k], hi[k], A0[k], B0[k], YC[k], ZC[k], D[k], F[k], AL[k], BE[k],
+            (n_[k], ay[k], az[k], by[k], bz[k]))
     s_c = np.stack([sy * ac, sz * bc], axis=-1).reshape(*shape, 2)
     return omega1.reshape(shape), converged.reshape(shape), s_c, (a1, b1)
 
@@ -567,31 +565,69 @@ def _quiet(g: np.ndarray, noise: np.ndarray) -> np.ndarray:
     return (abs(g) <= noise) | (g == 0)
 
 
-def _ends(nxt: np.ndarray, om: np.ndarray, quiet: np.ndarray, lo: np.ndarray, hi: np.ndarray, last: np.ndarray
-          ) -> np.ndarray:
+def _ends(nxt: np.ndarray, om: np.ndarray, quiet: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """``_cloth_normal_impulse``'s stop (where the slip has converged for ω): a step below ``NEWTON_RTOL`` of ω,
-    G at its rounding, or the bracket that narrow; or a step δ below ``ACCEPT`` of ω whose successor, predicted
-    from the convergence so far (cubic: δ (δ/δ_last)³, δ_last the step before, 0 at the first), is below
-    ``NEWTON_RTOL`` of ω (an iteration fewer: the step it saves would move ω by less than the test above allows)."""
+    G at its rounding, or the bracket that narrow. (Not a step predicted to be the last from the convergence so
+    far: next to the slip's stop at the impact's end, where G has a kink, the convergence is not of the order
+    assumed, and such a stop left ω1 4e-8 off, a jump that ``resal stress`` found at the regime boundary.)"""
     if nxt.__class__ is _F64:  # one scene: the same tests, in turn
-        step, size = abs(nxt - om), abs(nxt)
-        if step <= NEWTON_RTOL * size or quiet or hi - lo <= NEWTON_RTOL * hi:
-            return True
-        if not size > 0:  # (the arrays' quotients are then inf or nan: no end)
-            return False
-        rel, prev = step / size, last / size
-        return rel <= ACCEPT and rel * rel * rel * rel <= NEWTON_RTOL * (prev * prev * prev)
-    step, size = abs(nxt - om), abs(nxt)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rel, prev = step / size, last / size
-    return ((step <= NEWTON_RTOL * size) | quiet | (hi - lo <= NEWTON_RTOL * hi)
-            | ((rel <= ACCEPT) & (rel * rel * rel * rel <= NEWTON_RTOL * (prev * prev * prev))))
+        return abs(nxt - om) <= NEWTON_RTOL * abs(nxt) or quiet or hi - lo <= NEWTON_RTOL * hi
+    return (abs(nxt - om) <= NEWTON_RTOL * abs(nxt)) | quiet | (hi - lo <= NEWTON_RTOL * hi)
 
 
 def _cloth_final(p1: np.ndarray, q1: np.ndarray, dY: np.ndarray, dZ: np.ndarray, step: np.ndarray
                  ) -> tuple[np.ndarray, np.ndarray]:
     """The slip after, corrected to first order for the last step of ω."""
     return p1 - dY * step, q1 - dZ * step
+
+
+FALLBACK_MAXITER = 200  # halvings of ``_cloth_bisect``: from [lo, hi] to NEWTON_RTOL of ω1 takes
+# log2(hi/lo) + 47 of them (2^-47 < 1e-14), hi/lo at most ω_hi/ω_c: 200 cover ω_hi/ω_c up to 2^150
+
+
+def _cloth_bisect(om: np.float64, lo: np.float64, hi: np.float64, a0: np.float64, b0: np.float64, Yc: np.float64,
+                  Zc: np.float64, D: np.float64, F: np.float64, AL: np.float64, BE: np.float64,
+                  coef: tuple[np.float64, ...]) -> tuple[np.float64, np.bool_, tuple[np.float64, np.float64]]:
+    """The end of the impact for a scene that ``_cloth_normal_impulse``'s iteration leaves unconverged after
+    ``NEWTON_MAXITER`` steps, as numpy floats (both routes call it, scene by scene: the same numbers). That
+    iteration moves the slip's walk one step per step of ω, and its bracket only where the walk has settled; where
+    the root lies just short of the slip's stop (SLIDE next to GRIP), a step overshoots past the stop, the walk
+    restarts from x = 1 at the next ω, one step from there corrects the slip to negative magnitudes, and G comes out
+    with the wrong sign: the steps cycle, and the bracket's lower end never moves. Here G (law (L), ``law6_G``) is
+    taken with the slip settled at each ω (``_cloth_slip_at``), from the iteration's last iterate ``om``, and the
+    iteration's bracket [lo, hi] (moved only on settled values) is halved down to the iteration's own test, below
+    ``NEWTON_RTOL`` of ω: G increases on it (module docstring), so this converges within ``FALLBACK_MAXITER``
+    halvings. (Not stopped where G is within its rounding bound: a midpoint lands anywhere in that band, which is
+    wide where the slip dwarfs the approach speed, and the halvings narrow it further.) Returns ω1, whether it
+    converged, and the magnitudes of the slip after (y, z) at ω1."""
+    dec = _DecayOne(a0, b0, AL, BE)
+    x, h = _ONE, (dec.total if dec.kind == _TURNS else _ZERO)  # a walk's start: x = 1, H(1)
+    om = minimum(maximum(om, lo), hi)
+    for _ in range(FALLBACK_MAXITER):
+        p, q, x, h = _cloth_slip_at(dec, x, h, F * om)
+        g = law6_G(om, a0 - p, b0 - q, Yc, Zc, D, coef)
+        if g == 0 or hi - lo <= NEWTON_RTOL * hi:
+            return om, np.True_, (p, q)
+        if g < 0:
+            lo = om
+        elif g > 0:
+            hi = om
+        else:  # nan: no sign to bisect on
+            break
+        om = _bisect(lo, hi)
+    p, q, _, _ = _cloth_slip_at(dec, x, h, F * om)
+    return om, np.False_, (p, q)  # G nan, or a cap below the halvings the bracket needs: not converged
+
+
+def _cloth_slip_at(dec: _DecayOne, x: np.float64, h: np.float64, tau: np.float64
+                   ) -> tuple[np.float64, np.float64, np.float64, np.float64]:
+    """The magnitudes of the slip (y, z) after the impulse τ, settled as ``_cloth_normal_impulse_one`` settles the
+    slip at the greatest compression (a turning slip: ``slip._WalkOne.settle`` from x and its H, its last step's
+    residual corrected to first order; else the elementary decay), and the walk's x and H, a start for the next."""
+    if dec.kind != _TURNS:
+        p, q = dec.elementary(tau)
+        return p, q, x, h
+    return _WalkOne(dec, x, h).settle(tau)
 
 
 def _cloth_normal_impulse_one(s0y: np.float64, s0z: np.float64, approach: np.float64, omega: np.float64, M: np.float64,
@@ -620,7 +656,6 @@ def _cloth_normal_impulse_one(s0y: np.float64, s0z: np.float64, approach: np.flo
     om = _cloth_guess(g_c, lo, ac, bc, Yc, Zc, approach, f, AL, BE, coef, hi)
     walk = _WalkOne(dec, xc, hc) if turns else None
     p1 = q1 = om
-    last = _ZERO  # the previous step of ω (``_ends``)
     for _ in range(NEWTON_MAXITER):
         tau = f * om
         if walk is not None:
@@ -638,11 +673,11 @@ def _cloth_normal_impulse_one(s0y: np.float64, s0z: np.float64, approach: np.flo
         quiet = settled and _quiet(g, noise)
         if quiet:
             nxt = om
-        if settled and _ends(nxt, om, quiet, lo, hi, last):
+        if settled and _ends(nxt, om, quiet, lo, hi):
             return nxt, np.True_, s_c, _cloth_final(p1, q1, dY, dZ, nxt - om)
-        last = abs(nxt - om)
         om = nxt
-    return om, np.False_, s_c, (p1, q1)  # over NEWTON_MAXITER: the last iterate, not converged
+    om, ok, final = _cloth_bisect(om, lo, hi, a0, b0, Yc, Zc, approach, f, AL, BE, coef)  # over NEWTON_MAXITER
+    return om, ok, s_c, final
 
 
 def _slip_ode(y0: np.ndarray, a_: float, b_: float, tau_max: float, rtol: float, solver: str) -> Any:
