@@ -371,6 +371,36 @@ def direct_impact_curve(n: int, repeat: int) -> list[dict]:
     return out
 
 
+# §VI batches of balls of a few kinds (issue 34, item 2: heterogeneous k, k′ not slower than homogeneous): each
+# scene's two balls drawn among these (mass kg, MR²/I), a choice of ours: a set's object ball, a lighter one, and a
+# heavier cue ball of another make; and a batch where every scene has its own k, k′ (uniform on 1.5–4)
+BALL_KINDS = ((0.170, 2.5), (0.156, 2.5), (0.210, 2.2))
+
+
+def cloth_kinds(n: int, repeat: int, seed: int = 5) -> dict[str, Any]:
+    """§VI on the cloth through ``auto``, scenes/s on three batches of the model's sample (the same scenes): its own
+    k = k′ = 5/2 (homogeneous), the balls of ``BALL_KINDS`` (a few classes of the slip's c: ``slip.classes``), and k,
+    k′ per scene; timed in turns (``repeat`` rounds, the minimum of each), so that the machine's drift is shared."""
+    m = registry.MODELS["spheres-cloth"]
+    base = m.sample(np.random.default_rng(seed), n)
+    r = np.random.default_rng(seed + 1)
+    a, b = r.integers(0, len(BALL_KINDS), n), r.integers(0, len(BALL_KINDS), n)
+    mass, k = np.array([x[0] for x in BALL_KINDS]), np.array([x[1] for x in BALL_KINDS])
+    batches = {"homogeneous": base, "kinds": dict(base, M=mass[a], k=k[a], Mp=mass[b], kp=k[b]),
+               "per_scene": dict(base, k=r.uniform(1.5, 4.0, n), kp=r.uniform(1.5, 4.0, n))}
+    scenes = {name: m.scene(v) for name, v in batches.items()}
+    best = dict.fromkeys(scenes, np.inf)
+    for sc in scenes.values():
+        paths.solve(m, sc, "auto")  # warm-up
+    for _ in range(max(1, repeat)):
+        for name, sc in scenes.items():
+            t0 = time.perf_counter()
+            paths.solve(m, sc, "auto")
+            best[name] = min(best[name], time.perf_counter() - t0)
+    return {"scenes": n, "kinds": [list(x) for x in BALL_KINDS], "repeat": max(1, repeat),
+            "scenes_per_second": {name: n / t for name, t in best.items()}}
+
+
 def make_all_times(repeat: int = MAKE_ALL_REPEAT, progress: Callable[[str], None] | None = None) -> dict[str, Any]:
     """``resal reproduce --all`` (``make all``) as a user runs it, a new process each time, into a scratch folder:
     ``cold``, everything recomputed (``--force``: the experiments, their figures and the reader's edition), then
@@ -450,6 +480,10 @@ def run(models: Sequence[str] = (), quick: bool = False, progress: Callable[[str
         from .mechanics import timing
 
         report["n1"] = timing.n1_times(chosen, repeat=200 if quick else 3000)
+    if "spheres-cloth" in chosen:
+        if progress:
+            progress("§VI on the cloth: balls of a few kinds, k and k′ per scene")
+        report["cloth_kinds"] = cloth_kinds(cfg["n_fast"], 2 * cfg["repeat"] + 1)
     if not quick and not models:  # the whole command, as a user waits on it (seconds each: not in --quick)
         report["make_all"] = make_all_times(progress=progress)
     if fits:

@@ -90,6 +90,13 @@ def rows(report: dict[str, Any]) -> list[Target]:
         out.append(Target(f"§VI cloth: auto's error, {auto['where_exact']['scenes']} scenes", "relative", err,
                           BATCH_ERROR, False, "models[spheres-cloth].auto.where_exact.max_error (against the referee)",
                           _met(err, BATCH_ERROR, False)))
+    kinds = report.get("cloth_kinds")
+    if kinds is not None:  # item 2: heterogeneous k, k′ not slower than homogeneous (their rates' ratio ≥ 1)
+        rate = kinds["scenes_per_second"]
+        for key, what in (("kinds", f"balls of {len(kinds['kinds'])} kinds"), ("per_scene", "k, k′ per scene")):
+            ratio = rate[key] / rate["homogeneous"]
+            out.append(Target(f"§VI cloth: {what} ÷ k = k′", "×", ratio, 1.0, True,
+                              f"cloth_kinds.scenes_per_second.{key} / .homogeneous", _met(ratio, 1.0, True)))
     out += _pooltool_rows(report)
     ma = report.get("make_all")
     for key, what, target in (("cold", "make all, cold (median)", MAKE_ALL_COLD),

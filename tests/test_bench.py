@@ -55,6 +55,10 @@ def test_bench_reports_issue_34s_figures_from_its_own_measurements(report):
     auto = next(r for r in cloth["paths"] if r["path"] == "auto")
     batch = next(t for w, t in got.items() if w.startswith("§VI cloth: batch"))
     assert batch["now"] == auto["scenes_per_second"] and batch["met"] == (auto["scenes_per_second"] >= 1e6)
+    rate = rep["cloth_kinds"]["scenes_per_second"]  # heterogeneous batches: their rate over the homogeneous one's
+    for key, what in (("kinds", "§VI cloth: balls of 3 kinds ÷ k = k′"),
+                      ("per_scene", "§VI cloth: k, k′ per scene ÷ k = k′")):
+        assert got[what]["now"] == rate[key] / rate["homogeneous"] and got[what]["met"] == (got[what]["now"] >= 1)
     assert got["make all, cold (median)"]["now"] is None  # --quick does not time make all
     assert min(rep["calibration"].values()) > 0
     md = (out / "bench.md").read_text(encoding="utf-8")

@@ -22,7 +22,7 @@ import numpy as np
 
 from .paths import maximum, pick
 
-__all__ = ["SlipDecay", "SlipWalk", "slip_decay"]
+__all__ = ["SlipDecay", "SlipWalk", "classes", "slip_decay"]
 
 
 NEWTON_MAXITER = 60  # bound on the Newton iteration; a monotone convex iteration needs ~5-8 steps
@@ -201,6 +201,45 @@ def _class_of(c: np.ndarray) -> float | None:
         if hi - lo <= CLASS_ULPS * min(1 + 2 * hi, 8.0) * np.spacing(hi):
             return lo + 0.5 * (hi - lo)
     return None
+
+
+CLASSES_MAX = 64  # ``classes``: at most this many classes of c (``_class_series``'s cache holds as many)
+CLASS_MIN = 2048  # ``classes``: scenes per class at least, on average; below it one table of columns is cheaper
+# (a batch of 2048 scenes on the cloth takes about 6 ms, a third of it the call's fixed cost: measured in issue 34)
+
+
+def classes(alpha: np.ndarray, beta: np.ndarray) -> list[np.ndarray] | None:
+    """The scenes of a 1-D batch of decays (``SlipDecay``'s α, β) grouped by their c = b/(2(a − b)) of ``_F``
+    (a ≥ b the larger and the smaller of α and β: ``_general``, the same floats), as the indices of each group in
+    increasing order of c, when the batch's c are not one class (``_class_of``) but a few exact values: at most
+    ``CLASSES_MAX`` of them, with ``CLASS_MIN`` scenes or more each on average. Else None. A batch of balls of a
+    few kinds (k, k′ and M/M′ of a few values) is then solved group by group, each group one class: its
+    coefficients broadcast, where one table of a column per scene (``_series``, ``_layout``) costs twice the time
+    per scene. Each scene gets the numbers of a batch of its class: bit for bit those it gets alone where the
+    class has one c (c of several kinds of ball: k = k′ = 5/2 snaps to 5/4), else within the class's rounding, as in
+    any batch of one class (``_class_of``: the middle of its c)."""
+    n = alpha.size
+    if n < 2 * CLASS_MIN:
+        return None
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a, b = np.maximum(alpha, beta), np.minimum(alpha, beta)
+        c = b / (2 * (a - b))
+    if _class_of(c) is not None:
+        return None
+    most = min(CLASSES_MAX, n // CLASS_MIN)
+    if np.unique(c[:: max(1, n // (8 * most))]).size > most:  # a sample with too many already: a table
+        return None
+    values, inverse = np.unique(c, return_inverse=True)
+    if values.size > most or np.isnan(values).any():
+        return None
+    # neighbouring values within one class's rounding (``_class_of``: k = k′ with masses of several kinds) are one
+    start, label = 0, np.empty(values.size, dtype=np.intp)
+    for j in range(values.size):
+        if _class_of(values[start:j + 1]) is None:
+            start = j
+        label[j] = start
+    inverse = label[inverse]
+    return [np.flatnonzero(inverse == j) for j in np.unique(label)]
 
 
 def _cols(a: np.ndarray, i: np.ndarray | slice) -> np.ndarray:

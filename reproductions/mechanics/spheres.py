@@ -70,7 +70,7 @@ from numpy.typing import ArrayLike
 
 from .budget import bounded, check
 from .paths import PathCode, Regime, as_floats, batch_arrays, codes, maximum, minimum, pick, result
-from .slip import _TURNS, SlipDecay, SlipWalk, _DecayOne, _WalkOne, slip_decay
+from .slip import _TURNS, SlipDecay, SlipWalk, _DecayOne, _WalkOne, classes, slip_decay
 
 __all__ = ["METHODS", "SpheresImpact", "contact_slip", "two_spheres"]
 
@@ -355,6 +355,9 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
     magnitudes of the slip after (y, z)."""
     if approach.__class__ is np.float64:  # one scene as numpy floats (``paths.Path.scalar``)
         return _cloth_normal_impulse_one(s0y, s0z, approach, omega, M, cy, cz, f, coef)
+    groups = classes(np.ravel(M * cy), np.ravel(M * cz))
+    if groups is not None:  # balls of a few kinds: each kind's scenes a batch of one class (``slip.classes``)
+        return _cloth_by_class(groups, (s0y, s0z, approach, omega, M, cy, cz, f), coef)
     shape = approach.shape
     sy, sz = np.sign(s0y).ravel(), np.sign(s0z).ravel()
     a0, b0 = np.abs(s0y).ravel(), np.abs(s0z).ravel()
@@ -445,6 +448,22 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
             (n_[k], ay[k], az[k], by[k], bz[k]))
     s_c = np.stack([sy * ac, sz * bc], axis=-1).reshape(*shape, 2)
     return omega1.reshape(shape), converged.reshape(shape), s_c, (a1, b1)
+
+
+def _cloth_by_class(groups: list[np.ndarray], args: tuple[np.ndarray, ...], coef: tuple[np.ndarray, ...]
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    """``_cloth_normal_impulse`` group by group (``slip.classes``: the scenes of one class of the slip decay's c
+    each), its outputs put back in the batch's order. Each scene's numbers are those of its group's batch, which
+    are its own alone: the iteration is scene by scene, its compactions only gather."""
+    shape = args[2].shape
+    flat, cf = [np.ravel(x) for x in args], [np.ravel(x) for x in coef]
+    n = flat[0].size
+    omega1, converged, s_c = np.empty(n), np.empty(n, dtype=bool), np.empty((n, 2))
+    a1, b1 = np.empty(n), np.empty(n)
+    for i in groups:
+        o, c, s, (p, q) = _cloth_normal_impulse(*(x[i] for x in flat), tuple(x[i] for x in cf))
+        omega1[i], converged[i], s_c[i], a1[i], b1[i] = o, c, s, p, q
+    return omega1.reshape(shape), converged.reshape(shape), s_c.reshape(*shape, 2), (a1, b1)
 
 
 def _cloth_high(a0: np.ndarray, b0: np.ndarray, approach: np.ndarray, N: np.ndarray, By: np.ndarray,
