@@ -74,6 +74,21 @@ def test_classes_leave_a_batch_whole_where_splitting_would_not_pay(case):
     assert slip.classes(*_alpha_beta(v)) is None
 
 
+def test_classes_of_few_scenes_go_together_as_one_table():
+    """Three kinds of ball, and a few scenes of a rare fourth: its classes (each under CLASS_FEW scenes) are one
+    group, last, left to the table of columns; the frequent classes keep a group each."""
+    v = _values(30_000)
+    rare = np.arange(0, 30_000, 97)  # 310 scenes: the cue ball of another set
+    v["M"][rare], v["k"][rare] = 0.180, 2.3
+    groups = slip.classes(*_alpha_beta(v))
+    assert groups is not None and len(groups) == 5
+    assert np.array_equal(np.sort(np.concatenate(groups)), np.arange(30_000))
+    assert all(g.size >= slip.CLASS_FEW for g in groups[:-1])
+    assert set(rare.tolist()) <= set(groups[-1].tolist())  # the rare classes, together in the last
+    c = _c(v)
+    assert np.unique(np.round(c[groups[-1]], 12)).size >= 2  # … several classes in it: a table
+
+
 def _solve_whole(monkeypatch, scene):
     """The same batch through one table (no grouping): the route before ``slip.classes``."""
     with monkeypatch.context() as mp:

@@ -206,13 +206,15 @@ def _class_of(c: np.ndarray) -> float | None:
 CLASSES_MAX = 64  # ``classes``: at most this many classes of c (``_class_series``'s cache holds as many)
 CLASS_MIN = 2048  # ``classes``: scenes per class at least, on average; below it one table of columns is cheaper
 # (a batch of 2048 scenes on the cloth takes about 6 ms, a third of it the call's fixed cost: measured in issue 34)
+CLASS_FEW = CLASS_MIN // 4  # ``classes``: a class with fewer scenes joins the others of its size in one table
 
 
 def classes(alpha: np.ndarray, beta: np.ndarray) -> list[np.ndarray] | None:
     """The scenes of a 1-D batch of decays (``SlipDecay``'s α, β) grouped by their c = b/(2(a − b)) of ``_F``
     (a ≥ b the larger and the smaller of α and β: ``_general``, the same floats), as the indices of each group in
     increasing order of c, when the batch's c are not one class (``_class_of``) but a few exact values: at most
-    ``CLASSES_MAX`` of them, with ``CLASS_MIN`` scenes or more each on average. Else None. A batch of balls of a
+    ``CLASSES_MAX`` of them, with ``CLASS_MIN`` scenes or more each on average (the classes of fewer than
+    ``CLASS_FEW`` scenes together, last: one table). Else None. A batch of balls of a
     few kinds (k, k′ and M/M′ of a few values) is then solved group by group, each group one class: its
     coefficients broadcast, where one table of a column per scene (``_series``, ``_layout``) costs twice the time
     per scene. Each scene gets the numbers of a batch of its class: bit for bit those it gets alone where the
@@ -239,7 +241,12 @@ def classes(alpha: np.ndarray, beta: np.ndarray) -> list[np.ndarray] | None:
             start = j
         label[j] = start
     inverse = label[inverse]
-    return [np.flatnonzero(inverse == j) for j in np.unique(label)]
+    groups = [np.flatnonzero(inverse == j) for j in np.unique(label)]
+    # a class of few scenes would cost a call for little: those go together, as one table (``_F_blocks``), at the end
+    few = [g for g in groups if g.size < CLASS_FEW]
+    if few:
+        groups = [g for g in groups if g.size >= CLASS_FEW] + [np.sort(np.concatenate(few))]
+    return groups if len(groups) > 1 else None
 
 
 def _cols(a: np.ndarray, i: np.ndarray | slice) -> np.ndarray:
