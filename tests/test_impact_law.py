@@ -52,6 +52,26 @@ def test_eq2_needs_the_rigid_motion_at_the_greatest_compression():
     assert abs(lhs - (phi(v0, u) - phi(v1, u) - 2 * s.J_omega)) > 1e-3
 
 
+@pytest.mark.parametrize("molecules", [2, 5, 12])
+def test_the_internal_impulses_are_drawn_as_choice_draws_them(molecules):
+    """``impact._internal_pairs`` stands for ``rng.choice(idx, 2, replace=False)`` then ``rng.normal()`` per pair (the
+    draw it replaced, for speed): the same pairs, the same sizes, and the generator left in the same state, so that
+    every draw after it (the rest of the experiment's sample) is unchanged."""
+    for seed in range(4):
+        a, b = np.random.default_rng(seed), np.random.default_rng(seed)
+        a.integers(0, 7), b.integers(0, 7)  # half a 64-bit word left in the buffer of 32-bit draws
+        ends, sizes = impact._internal_pairs(a, 3, molecules)
+        want_ends, want_sizes = [], []
+        for body in range(3):
+            idx = np.arange(body * molecules, (body + 1) * molecules)
+            for _ in range(2 * molecules):
+                i, k = b.choice(idx, 2, replace=False)
+                want_ends += (int(k), int(i))
+                want_sizes.append(b.normal())
+        assert ends.tolist() == want_ends and sizes.tolist() == want_sizes
+        assert a.bit_generator.state == b.bit_generator.state and a.random() == b.random()
+
+
 def test_digitised_step_without_u_fails_and_the_likely_original_holds(law):
     r = law["eq2_as_digitised"]  # a momentum against a work: from m/s to cm/s the ratio of its sides changes by 100
     assert r.verdict == "differs" and r.reason == "ocr" and r.computed == pytest.approx(99.0, rel=1e-9)
