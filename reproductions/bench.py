@@ -8,7 +8,8 @@ tolerance, for the closed forms and approximations; the exact path for the ODE a
 are the model's own measure (``Model.error``: the largest output difference over the scene's speed scale);
 failures count as NaN and are never dropped. Beside each path, its speed as a fraction of a floor measured in the
 same run: one elementwise numpy pass over the batch's inputs and outputs. For §I the two-phase contact is also
-integrated at a grid of tolerances (the work-precision curve of an ODE).
+integrated at a grid of tolerances (the work-precision curve of an ODE). For §VI on the cloth, three batches of the
+same scenes are timed in turns through ``auto`` (``cloth_kinds``): k = k′, balls of a few kinds, and k, k′ per scene.
 
 The Pareto verdict: for each model and scene class (the path ``auto`` chose × the regime), whether another path
 that declares itself exact there is both faster and at least as accurate; then ``auto`` would be wrong, and the
@@ -657,6 +658,22 @@ def _write(report: dict, out: Path, figures: Path, plt: Any, write_folder: Calla
                   "|---|---|---|---|---|---|---|"]
         lines += [f"| {name} | {r['path']} | {r['total']:.3g} | {r['scene']:.3g} | {r['dispatch']:.3g} | "
                   f"{r['physics']:.3g} | {r['assembly']:.3g} |" for name, r in report["n1"].items()]
+    if "cloth_kinds" in report:
+        from .mechanics.slip import CLASS_MIN
+
+        ck = report["cloth_kinds"]
+        rate = ck["scenes_per_second"]
+        kinds = ", ".join(f"{m * 1000:g} g with MR²/I = {k:g}" for m, k in ck["kinds"])
+        lines += ["", f"## §VI on the cloth: {ck['scenes']:,} scenes through `auto`, three batches timed in turns "
+                  f"(the fastest of {ck['repeat']} each)", "",
+                  f"The same sampled scenes with the model's k = k′ = 5/2; each ball drawn among {len(ck['kinds'])} "
+                  f"kinds ({kinds}: a few classes of the slip decay's c, solved class by class from "
+                  f"{2 * CLASS_MIN:,} scenes on); k and k′ uniform "
+                  "on 1.5–4 per scene (a table of ₂F₁ coefficients, a column per scene).", "",
+                  "| batch | scenes/s | over k = k′ |", "|---|---|---|"]
+        for key, what in (("homogeneous", "k = k′ = 5/2"), ("kinds", "balls of a few kinds"),
+                          ("per_scene", "k, k′ per scene")):
+            lines.append(f"| {what} | {rate[key]:.3g} | {rate[key] / rate['homogeneous']:.3f} |")
     if "fits" in report:
         from .fitbench import markdown as fits_markdown
 

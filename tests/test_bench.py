@@ -64,6 +64,7 @@ def test_bench_reports_issue_34s_figures_from_its_own_measurements(report):
     md = (out / "bench.md").read_text(encoding="utf-8")
     assert "## Issue 34's targets, as measured here" in md and "Calibration of this machine" in md
     assert "## The ODE part:" in md
+    assert "## §VI on the cloth: " in md and "| balls of a few kinds | " in md  # the three batches' rates
 
 
 def test_bench_files_get_the_mode_of_the_users_umask(report):
