@@ -214,12 +214,13 @@ def classes(alpha: np.ndarray, beta: np.ndarray) -> list[np.ndarray] | None:
     (a ≥ b the larger and the smaller of α and β: ``_general``, the same floats), as the indices of each group in
     increasing order of c, when the batch's c are not one class (``_class_of``) but a few exact values: at most
     ``CLASSES_MAX`` of them, with ``CLASS_MIN`` scenes or more each on average (the classes of fewer than
-    ``CLASS_FEW`` scenes together, last: one table). Else None. A batch of balls of a
-    few kinds (k, k′ and M/M′ of a few values) is then solved group by group, each group one class: its
-    coefficients broadcast, where one table of a column per scene (``_series``, ``_layout``) costs twice the time
-    per scene. Each scene gets the numbers of a batch of its class: bit for bit those it gets alone where the
-    class has one c (c of several kinds of ball: k = k′ = 5/2 snaps to 5/4), else within the class's rounding, as in
-    any batch of one class (``_class_of``: the middle of its c)."""
+    ``CLASS_FEW`` scenes together, last: one table). Else None. A way of computing §VI n°13's slip decay, nothing of
+    the paper's: a batch of balls of a few kinds (k, k′ and M/M′ of a few values) is then solved group by group,
+    each group one class whose coefficients broadcast, where one table of a column per scene (``_series``,
+    ``_layout``) costs twice the time per scene. Each scene gets the numbers of a batch of its class: bit for bit
+    those it gets alone where the class has one c, else within the class's rounding, as in any batch of one class
+    (``_class_of``: the middle of its c; a class at a multiple of ¼, as k = k′ = 5/2's c = 5/4, is snapped to it
+    either way)."""
     n = alpha.size
     if n < 2 * CLASS_MIN:
         return None

@@ -452,9 +452,10 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
 
 def _cloth_by_class(groups: list[np.ndarray], args: tuple[np.ndarray, ...], coef: tuple[np.ndarray, ...]
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
-    """``_cloth_normal_impulse`` group by group (``slip.classes``: the scenes of one class of the slip decay's c
-    each), its outputs put back in the batch's order. Each scene's numbers are those of its group's batch, which
-    are its own alone: the iteration is scene by scene, its compactions only gather."""
+    """``_cloth_normal_impulse`` (§VI n°13) group by group (``slip.classes``: the scenes of one class of the slip
+    decay's c each, the rare classes together last), its outputs put back in the batch's order: a way of computing,
+    nothing of the paper's. Each scene's numbers are those of its group's batch (the iteration is scene by scene,
+    its compactions only gather): its own alone where the group has one c, else within its class's rounding."""
     shape = args[2].shape
     flat, cf = [np.ravel(x) for x in args], [np.ravel(x) for x in coef]
     n = flat[0].size
