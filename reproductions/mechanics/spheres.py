@@ -355,16 +355,17 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
     magnitudes of the slip after (y, z)."""
     if approach.__class__ is np.float64:  # one scene as numpy floats (``paths.Path.scalar``)
         return _cloth_normal_impulse_one(s0y, s0z, approach, omega, M, cy, cz, f, coef)
-    groups = classes(np.ravel(M * cy), np.ravel(M * cz))
+    al, be = np.ravel(M * cy), np.ravel(M * cz)  # the slip decay's α, β (once: the grouping, the decay, the rates)
+    groups = classes(al, be)
     if groups is not None:  # balls of a few kinds: each kind's scenes a batch of one class (``slip.classes``)
         return _cloth_by_class(groups, (s0y, s0z, approach, omega, M, cy, cz, f), coef)
     shape = approach.shape
     sy, sz = np.sign(s0y).ravel(), np.sign(s0z).ravel()
     a0, b0 = np.abs(s0y).ravel(), np.abs(s0z).ravel()
-    M, cy, cz, f, approach, om_c = (np.ravel(x) for x in (M, cy, cz, f, approach, omega))
+    f, approach, om_c = (np.ravel(x) for x in (f, approach, omega))
     coef = tuple(np.ravel(x) for x in coef)
     N, Ay, Az, By, Bz = coef
-    dec = SlipDecay(a0, b0, M * cy, M * cz)
+    dec = SlipDecay(a0, b0, al, be)
     # the slip at the greatest compression: the general decays walked from x = 1 to τ = f ω_c, the others elementary
     gi = np.flatnonzero(dec.gen) if dec.special else dec.everyone
     start = SlipWalk(dec, gi, np.ones(gi.size), dec.total[gi])
@@ -380,7 +381,7 @@ def _cloth_normal_impulse(s0y: np.ndarray, s0z: np.ndarray, approach: np.ndarray
     omega1, a1, b1, converged = om_c.copy(), ac.copy(), bc.copy(), done.copy()
 
     ix = np.flatnonzero(~done)  # the scenes still moving; the arrays below are theirs
-    cols = (a0, b0, Yc, Zc, approach, f, M * cy, M * cz, N, Ay, Az, By, Bz, om_c, hi0, g_c, ac, bc)
+    cols = (a0, b0, Yc, Zc, approach, f, al, be, N, Ay, Az, By, Bz, om_c, hi0, g_c, ac, bc)
     if ix.size == done.size:  # every scene (ε, ε′ < 1): the arrays as they are (lo and hi are updated in place)
         A0, B0, YC, ZC, D, F, AL, BE, n_, ay, az, by, bz, lo, hi, gc, acx, bcx = cols
         lo, hi = lo.copy(), hi.copy()
